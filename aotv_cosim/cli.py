@@ -1,0 +1,196 @@
+"""The `aotv-cosim` command: run, check, validate, build-fmus.
+
+Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
+exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
+one line too, unless --debug asks for the traceback.
+"""
+
+import signal
+import sys
+from pathlib import Path
+
+import click
+
+from aotv_cosim.errors import AotvError, ValidationFailed
+
+DEFAULT_OUT = Path("results")
+
+
+class _Context:
+    debug = False
+
+
+def _fail(exc):
+    lines = exc.problems if isinstance(exc, ValidationFailed) else [exc]
+    for line in lines:
+        click.echo(f"error: {line}", err=True)
+    sys.exit(exc.exit_status)
+
+
+def _guard(function):
+    """Run a command body, turning exceptions into one-line errors."""
+    try:
+        return function()
+    except AotvError as exc:
+        if _Context.debug:
+            raise
+        _fail(exc)
+    except Exception as exc:  # unforeseen: still one line, traceback only on request
+        if _Context.debug:
+            raise
+        click.echo(f"error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", err=True)
+        sys.exit(3)
+
+
+def _interrupt(signum, frame):
+    from aotv_cosim.master import Interrupted
+
+    raise Interrupted(signal.Signals(signum).name)
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.option("--debug", is_flag=True, help="Show tracebacks.")
+@click.version_option(package_name="aotv-cosim")
+def main(debug):
+    """FMI co-simulation of aeroassisted orbital transfer and entry guidance."""
+    _Context.debug = debug
+
+
+def _progress_bar(scenario):
+    from tqdm import tqdm
+
+    bar = tqdm(total=round(scenario.stop - scenario.start, 6), unit="s sim", delay=2.0,
+               file=sys.stderr, leave=False, bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s [{elapsed}<{remaining}]")
+
+    def update(t):
+        bar.n = round(t - scenario.start, 6)
+        bar.refresh() if bar.n >= bar.total else bar.update(0)
+
+    return bar, update
+
+
+def _print_summary(summary, out_dir):
+    click.echo(f"{Path(summary['scenario']).name}: {summary['status']} ({summary['stop_reason']}), "
+               f"{summary['steps']} steps in {summary['wall_time_s']:.3f} s")
+    if summary["error"]:
+        click.echo(f"  failure: {summary['error']}")
+    if summary["event"]:
+        click.echo(f"  event at t = {summary['event']['time']:.6g} s")
+    names = list(summary["final"])[:12]
+    if names:
+        width = max(len(n) for n in names)
+        click.echo(f"  {'signal':<{width}}  {'final':>14}  {'min':>14}  {'max':>14}")
+        for n in names:
+            lo = summary["min"].get(n, {}).get("value", float("nan"))
+            hi = summary["max"].get(n, {}).get("value", float("nan"))
+            final = summary["final"][n]
+            final = f"{final:14.7g}" if isinstance(final, float) else f"{final:>14}"
+            click.echo(f"  {n:<{width}}  {final}  {lo:14.7g}  {hi:14.7g}")
+    _print_expectations(summary["expectations"])
+    click.echo(f"  results in {out_dir}")
+
+
+def _print_expectations(results):
+    for r in results:
+        measured = "not measured" if r["measured"] is None else f"{r['measured']:.7g}"
+        click.echo(f"  [{'PASS' if r['passed'] else 'FAIL'}] {r['signal']} at {r['at']}: "
+                   f"{measured} vs {r['expected']:.7g} +- {r['allowed_error']:.3g}  ({r['source']})")
+
+
+def _run_one(path, out, sets, step, plots):
+    from aotv_cosim.runner import run_scenario
+    from aotv_cosim.scenario import load_scenario, parse_sets
+
+    scenario = load_scenario(path, parse_sets(sets), step)
+    out_dir = Path(out) if out else DEFAULT_OUT / Path(path).stem
+    bar, update = _progress_bar(scenario)
+    try:
+        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots)
+    finally:
+        bar.close()
+    return summary, out_dir
+
+
+@main.command()
+@click.argument("scenario", type=click.Path(dir_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>].")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
+@click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
+def run(scenario, out, sets, step, no_plots):
+    """Run SCENARIO: writes timeseries.csv, summary.json and plots."""
+    signal.signal(signal.SIGTERM, _interrupt)
+
+    def body():
+        summary, out_dir = _run_one(scenario, out, sets, step, not no_plots)
+        _print_summary(summary, out_dir)
+        if summary["status"] != "completed":
+            sys.exit(1)
+        if not all(r["passed"] for r in summary["expectations"]):
+            click.echo("error: expectations failed (see above)", err=True)
+            sys.exit(1)
+
+    _guard(body)
+
+
+@main.command()
+@click.argument("paths", nargs=-1, type=click.Path(exists=True))
+@click.option("--out", type=click.Path(file_okay=False), help="Base output folder [results/check].")
+def check(paths, out):
+    """Run every scenario with expectations under PATHS [scenarios/] and compare."""
+    import json
+
+    files = []
+    for p in paths or ("scenarios",):
+        p = Path(p)
+        files += sorted(p.glob("*.json")) if p.is_dir() else [p]
+    candidates = [f for f in files if json.loads(f.read_text() or "{}").get("expectations")]
+
+    def body():
+        failed = 0
+        for f in candidates:
+            summary, _ = _run_one(f, Path(out or DEFAULT_OUT / "check") / f.stem, (), None, False)
+            ok = summary["status"] == "completed" and all(r["passed"] for r in summary["expectations"])
+            failed += not ok
+            click.echo(f"{'PASS' if ok else 'FAIL'} {f}  ({summary['status']}, {summary['wall_time_s']:.2f} s)")
+            if summary["error"]:
+                click.echo(f"  failure: {summary['error']}")
+            _print_expectations(summary["expectations"])
+        click.echo(f"{len(candidates) - failed} passed, {failed} failed")
+        sys.exit(1 if failed else 0)
+
+    _guard(body)
+
+
+@main.command()
+@click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False))
+def validate(files):
+    """Check scenario or wiring FILES without running them."""
+    import json
+
+    from aotv_cosim.scenario import load_scenario
+    from aotv_cosim.system import load_system
+
+    def body():
+        for f in files:
+            try:
+                kind = "wiring" if "components" in json.loads(Path(f).read_text()) else "scenario"
+            except (OSError, ValueError):
+                kind = "scenario"  # the loader reports the precise problem
+            (load_system if kind == "wiring" else load_scenario)(f)
+            click.echo(f"ok: {f} ({kind})")
+
+    _guard(body)
+
+
+@main.command("build-fmus")
+@click.option("--out", type=click.Path(file_okay=False), help="Put the FMUs here instead of the cache.")
+def build_fmus(out):
+    """Build every FMU of fmus_src (only those whose sources changed)."""
+    from aotv_cosim import fmu_build
+
+    def body():
+        for name, path in fmu_build.build_all(out).items():
+            click.echo(f"{name}: {path}")
+
+    _guard(body)

@@ -1,0 +1,55 @@
+"""The project's error types. The CLI turns each into one line and an exit status."""
+
+
+class AotvError(Exception):
+    """Base of every error the CLI reports without a traceback.
+
+    Rendered as ``FILE: ENTRY: CAUSE; FIX``; `exit_status` is the CLI's exit code.
+    """
+
+    exit_status = 1
+
+    def __init__(self, cause, *, file=None, entry=None, fix=None):
+        super().__init__(cause)
+        self.cause = cause
+        self.file = file
+        self.entry = entry
+        self.fix = fix
+
+    def __str__(self):
+        parts = [str(p) for p in (self.file, self.entry) if p]
+        text = ": ".join(parts + [self.cause])
+        return f"{text}; {self.fix}" if self.fix else text
+
+
+class InputError(AotvError):
+    """A scenario, wiring or FMU file that cannot be used as given (exit status 2)."""
+
+    exit_status = 2
+
+
+class BuildError(AotvError):
+    """An FMU could not be built from fmus_src or does not validate."""
+
+
+class SimulationError(AotvError):
+    """A run failed midway: an FMU raised, returned an error status or produced NaN/inf."""
+
+
+class ValidationFailed(InputError):
+    """Several problems found in one file; `problems` holds one InputError per problem."""
+
+    def __init__(self, problems):
+        super().__init__(f"{len(problems)} problem(s)")
+        self.problems = list(problems)
+
+    def __str__(self):
+        return "\n".join(str(p) for p in self.problems)
+
+
+def raise_if_any(problems):
+    """Raise the single problem, or ValidationFailed for several; do nothing if none."""
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        raise ValidationFailed(problems)

@@ -1,0 +1,147 @@
+"""One FMU instance on FMPy's FMU2Slave, called through its raw ctypes entry points.
+
+FMPy's convenience methods (getReal, setReal, doStep) convert Python lists to ctypes arrays and
+raise on every call; the master instead keeps pre-built value-reference and value arrays per
+component and calls the C functions directly, checking the status itself. Log messages of the
+FMU are captured (last 50) so a failure can be reported with the FMU's own words.
+"""
+
+import collections
+import ctypes
+import hashlib
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from fmpy import extract
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy import calloc, free
+
+from aotv_cosim import fmu_build
+from aotv_cosim.errors import SimulationError
+
+STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
+
+
+def extracted(fmu_path: Path) -> Path:
+    """Folder holding the extracted FMU, shared between runs and keyed by the file's content."""
+    digest = hashlib.sha256(Path(fmu_path).read_bytes()).hexdigest()[:20]
+    target = fmu_build.cache_dir() / "extracted" / digest
+    if not target.is_dir():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=".tmp-"))
+        extract(str(fmu_path), str(tmp))
+        try:
+            os.replace(tmp, target)
+        except OSError:  # another process extracted it first
+            shutil.rmtree(tmp, ignore_errors=True)
+    return target
+
+
+class FmuInstance:
+    """An instantiated co-simulation FMU: raw doStep/getReal/setReal plus lifecycle calls."""
+
+    def __init__(self, name: str, info, start_time: float, stop_time: float):
+        self.name = name
+        self.info = info
+        self.time = start_time
+        self.messages = collections.deque(maxlen=50)
+        md = info.model_description
+        self.slave = FMU2Slave(guid=md.guid, unzipDirectory=str(extracted(info.path)),
+                               modelIdentifier=info.model_identifier, instanceName=name)
+        self._callbacks = self._make_callbacks()
+        self._call("instantiate", lambda: self.slave.instantiate(callbacks=self._callbacks, loggingOn=True))
+        functions = self.slave._functions
+        self.component = self.slave.component
+        self.raw_do_step = functions["fmi2DoStep"]
+        self.raw_get_real = functions["fmi2GetReal"]
+        self.raw_set_real = functions["fmi2SetReal"]
+        self._call("fmi2SetupExperiment",
+                   lambda: self.slave.setupExperiment(startTime=start_time, stopTime=stop_time))
+
+    def _make_callbacks(self):
+        def logger(env, instance, status, category, message):
+            text = message.decode("utf-8", "replace") if message else ""
+            self.messages.append((STATUS.get(status, str(status)), text.strip()))
+
+        callbacks = fmi2CallbackFunctions()
+        callbacks.logger = fmi2CallbackLoggerTYPE(logger)
+        callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        try:
+            from fmpy.logging import addLoggerProxy
+
+            addLoggerProxy(ctypes.byref(callbacks))
+        except Exception:  # the proxy only formats printf-style messages; plain text still arrives
+            pass
+        return callbacks
+
+    def last_message(self) -> str:
+        """The FMU's last error-level log message (else its last message), one line."""
+        for status, text in reversed(self.messages):
+            if status in ("error", "fatal"):
+                break
+        else:
+            text = self.messages[-1][1] if self.messages else ""
+        lines = [line.strip() for line in text.splitlines() if line.strip()]
+        return lines[-1] if lines else "no message from the FMU"
+
+    def failure(self, call: str, time: float, status=None, variable=None) -> SimulationError:
+        """A SimulationError naming this component, the call, the time and the FMU's message."""
+        what = f"{call} returned {STATUS.get(status, status)}" if status is not None else call
+        where = f"{self.name}.{variable}" if variable else self.name
+        error = SimulationError(f"{what} at t = {time:.6g} s: {self.last_message()}",
+                                file=self.info.path.name, entry=where,
+                                fix="see the FMU's log above; the results up to this time are saved")
+        error.component, error.time, error.variable = self.name, time, variable
+        return error
+
+    def _call(self, call, function):
+        try:
+            function()
+        except Exception as exc:
+            raise self.failure(call, self.time) from exc
+
+    def set_values(self, values: dict) -> None:
+        """Set parameter or start values by name (before or during initialization)."""
+        variables = self.info.variables
+        for name, value in values.items():
+            var = variables[name]
+            setter = {"Real": self.slave.setReal, "Integer": self.slave.setInteger,
+                      "Boolean": self.slave.setBoolean, "String": self.slave.setString}[var.type]
+            self._call(f"set {name}", lambda: setter([var.vr], [value]))
+
+    def enter_initialization(self):
+        self._call("fmi2EnterInitializationMode", self.slave.enterInitializationMode)
+
+    def exit_initialization(self):
+        self._call("fmi2ExitInitializationMode", self.slave.exitInitializationMode)
+
+    def get_real(self, names):
+        vrs = [self.info.variables[n].vr for n in names]
+        values = (ctypes.c_double * len(vrs))()
+        status = self.raw_get_real(self.component, (ctypes.c_uint * len(vrs))(*vrs), len(vrs), values)
+        if status > 1:
+            raise self.failure("fmi2GetReal", self.time, status)
+        return list(values)
+
+    def set_real(self, names, values):
+        vrs = [self.info.variables[n].vr for n in names]
+        status = self.raw_set_real(self.component, (ctypes.c_uint * len(vrs))(*vrs), len(vrs),
+                                   (ctypes.c_double * len(vrs))(*values))
+        if status > 1:
+            raise self.failure("fmi2SetReal", self.time, status)
+
+    def close(self):
+        """Terminate and free the instance, ignoring a failure to do so (the run is over).
+
+        The shared library stays loaded: a pythonfmu library cannot be unloaded and loaded
+        again in the same process, and the next run of the same FMU reuses it.
+        """
+        for call in (self.slave.terminate, lambda: self.slave.fmi2FreeInstance(self.component)):
+            try:
+                call()
+            except Exception:
+                pass

@@ -1,0 +1,184 @@
+"""Build the FMUs of ``fmus_src`` with pythonfmu: content-hash cache, compliant, reproducible.
+
+Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the guidance laws and
+the adapter base classes) so it runs where aotv-cosim is not installed. The build then rewrites
+the archive so that the same sources give the same bytes: the modelDescription gets a GUID
+derived from the sources and the generated XML, no generation date, and zip entries are written
+in sorted order with a fixed timestamp. Finally `fmpy validate` must report no problem.
+"""
+
+import ast
+import hashlib
+import io
+import os
+import shutil
+import sys
+import tempfile
+import uuid
+import zipfile
+from pathlib import Path
+from xml.etree import ElementTree
+
+import pythonfmu
+from pythonfmu.builder import FmuBuilder
+
+from aotv_cosim.errors import BuildError
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "physics", "guidance")
+"""Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
+BUILD_INFO = "resources/aotv_cosim_build.txt"
+"""Archive member holding the source hash an FMU was built from."""
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+
+
+def fmus_src_dir() -> Path:
+    """The fmus_src folder: inside the installed package (wheel) or beside it (source checkout)."""
+    for candidate in (PACKAGE_DIR / "fmus_src", PACKAGE_DIR.parent / "fmus_src"):
+        if candidate.is_dir():
+            return candidate
+    raise BuildError("fmus_src not found", file=str(PACKAGE_DIR.parent / "fmus_src"),
+                     fix="reinstall aotv-cosim or run from a source checkout")
+
+
+def cache_dir() -> Path:
+    """FMU cache folder: $AOTV_COSIM_CACHE, else $XDG_CACHE_HOME/aotv-cosim, else ~/.cache/aotv-cosim."""
+    root = os.environ.get("AOTV_COSIM_CACHE")
+    if root:
+        return Path(root)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "aotv-cosim"
+
+
+def available_fmus() -> list:
+    """Names of the FMUs defined in fmus_src (one class per module)."""
+    return sorted(p.stem for p in fmus_src_dir().glob("*.py") if not p.stem.startswith("_"))
+
+
+def _runtime_files():
+    for entry in RUNTIME:
+        path = PACKAGE_DIR / entry
+        if path.is_dir():
+            yield from sorted(p for p in path.rglob("*.py") if "__pycache__" not in p.parts)
+        else:
+            yield path
+
+
+def source_hash(name: str) -> str:
+    """SHA-256 over the FMU's module, the bundled runtime and the pythonfmu version."""
+    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\n".encode())
+    for path in [fmus_src_dir() / f"{name}.py", *_runtime_files()]:
+        rel = path.relative_to(path.parents[1] if path.parent.name == "fmus_src" else PACKAGE_DIR.parent)
+        digest.update(f"{rel.as_posix()}\n".encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def built_hash(fmu: Path):
+    """The source hash recorded in an FMU built here, or None."""
+    try:
+        with zipfile.ZipFile(fmu) as archive:
+            return archive.read(BUILD_INFO).decode().strip()
+    except (OSError, KeyError, zipfile.BadZipFile):
+        return None
+
+
+def ensure_fmu(name: str, out_dir=None) -> Path:
+    """Path of an up-to-date FMU for fmus_src/<name>.py, building it if missing or stale.
+
+    Without out_dir the FMU lives in the cache as <name>-<hash16>.fmu; with it, as <name>.fmu.
+    """
+    if name not in available_fmus():
+        raise BuildError(f"no FMU named {name!r} in fmus_src",
+                         fix=f"use one of {', '.join(available_fmus())} or a path to a .fmu file")
+    digest = source_hash(name)
+    target = (Path(out_dir) / f"{name}.fmu" if out_dir
+              else cache_dir() / f"{name}-{digest[:16]}.fmu")
+    if target.is_file() and built_hash(target) == digest:
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="aotv_build_") as tmp:
+        raw = _pythonfmu_build(name, Path(tmp))
+        staged = Path(tmp) / "final.fmu"
+        _rewrite_reproducibly(raw, staged, digest)
+        _validate(staged, name)
+        os.replace(staged, target) if staged.stat().st_dev == target.parent.stat().st_dev \
+            else shutil.move(staged, target)
+    return target
+
+
+def build_all(out_dir=None) -> dict:
+    """Ensure every FMU of fmus_src is built; returns {name: path}."""
+    return {name: ensure_fmu(name, out_dir) for name in available_fmus()}
+
+
+def check_defines_do_step(name: str) -> None:
+    """Refuse an FMU module whose slave class inherits do_step instead of defining it.
+
+    pythonfmu 0.7's runtime finds the slave class through the class that owns ``do_step``; when
+    that is a base class from another module, instantiation corrupts the FMU's module and every
+    later instance fails. So each class in fmus_src defines do_step itself.
+    """
+    source = (fmus_src_dir() / f"{name}.py").read_text()
+    tree = ast.parse(source)
+    classes = [n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == name]
+    if not classes or not any(isinstance(f, ast.FunctionDef) and f.name == "do_step"
+                              for f in classes[0].body):
+        raise BuildError(f"class {name} must be defined in {name}.py and define do_step itself",
+                         file=str(fmus_src_dir() / f"{name}.py"),
+                         fix="add `def do_step(self, current_time, step_size)` to the class")
+
+
+def _pythonfmu_build(name: str, tmp: Path) -> Path:
+    check_defines_do_step(name)
+    stage = tmp / "stage" / "aotv_cosim"
+    for path in _runtime_files():
+        dest = stage / path.relative_to(PACKAGE_DIR)
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(path, dest)
+    saved_path = list(sys.path)
+    try:
+        return FmuBuilder.build_FMU(fmus_src_dir() / f"{name}.py", dest=tmp / f"{name}.fmu",
+                                    project_files=[stage])
+    except Exception as exc:  # pythonfmu raises anything from the user's module
+        raise BuildError(f"pythonfmu failed: {exc}", file=str(fmus_src_dir() / f"{name}.py"),
+                         fix="fix the FMU module; run `aotv-cosim --debug build-fmus` for the traceback") from exc
+    finally:
+        sys.path[:] = saved_path
+
+
+def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
+    with zipfile.ZipFile(raw) as src:
+        members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
+    members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
+    members[BUILD_INFO] = (digest + "\n").encode()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
+        for name in sorted(members):
+            info = zipfile.ZipInfo(name, date_time=ZIP_DATE)
+            info.external_attr = 0o644 << 16
+            info.compress_type = zipfile.ZIP_DEFLATED
+            dst.writestr(info, members[name])
+
+
+def _reproducible_description(xml: bytes, digest: str) -> bytes:
+    """Drop the generation date and derive the GUID from the sources and the XML itself."""
+    root = ElementTree.fromstring(xml)
+    root.attrib.pop("generationDateAndTime", None)
+    root.set("guid", "")
+    ElementTree.indent(root, space="  ")
+    body = ElementTree.tostring(root, encoding="unicode")
+    guid = uuid.UUID(bytes=hashlib.sha256((digest + body).encode()).digest()[:16], version=5)
+    root.set("guid", "{" + str(guid) + "}")
+    out = io.BytesIO()
+    ElementTree.ElementTree(root).write(out, encoding="UTF-8", xml_declaration=True)
+    return out.getvalue() + b"\n"
+
+
+def _validate(fmu: Path, name: str) -> None:
+    from fmpy.validation import validate_fmu
+
+    problems = validate_fmu(str(fmu))
+    if problems:
+        raise BuildError("fmpy validate: " + " | ".join(problems),
+                         file=str(fmus_src_dir() / f"{name}.py"),
+                         fix="declare every variable through AotvSlave.parameter/input/output")

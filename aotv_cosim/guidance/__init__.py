@@ -1,0 +1,1 @@
+"""Guidance and control laws and their solvers (bundled into the FMUs; numpy/scipy only)."""

@@ -1,0 +1,74 @@
+"""3-D point-mass equations of motion over a spherical, non-rotating Earth (Vinh's form).
+
+State x = (r, theta, phi, v, gamma, psi): radius (m), longitude (rad), latitude (rad), speed (m/s),
+flight-path angle (rad, positive up) and heading (rad, measured from east toward north, so psi = 0
+is due east). These are seed 002 eqs. (1)-(6) and seed 001 eqs. (3.1)-(3.6); with bank sigma = 0,
+psi = phi = 0 and constant gravity they reduce to the planar seed-000 model, eq. (2.7), whose
+theta is the downrange angle (seed 000 eq. 2.2).
+
+Aerodynamic specific forces are written as
+    L/m = lift_acc + (1/2) rho v^2 cl_s_m,        D/m = (1/2) rho v^2 cd_s_m,
+so one function serves every seed: seed 000 commands the lift acceleration u = L/m directly
+(lift_acc = u, cl_s_m = 0, cd_s_m = C_D0 / (m/S), eq. 2.6-2.9); seeds 001 and 002 give the lift
+and drag coefficients (cl_s_m = C_L S / m, cd_s_m = C_D S / m). Within one integration step the
+inputs (rho, lift_acc, cl_s_m, cd_s_m, sigma) are held constant: a zero-order hold, as the FMU
+sees them.
+"""
+
+import math
+
+GRAVITY_CONSTANT = 0
+"""Gravity model code: constant g0 (seed 000, Sec. 2.1 assumption 3)."""
+GRAVITY_INVERSE_SQUARE = 1
+"""Gravity model code: g = mu / r^2 (seeds 001, 002)."""
+
+
+def gravity(r: float, model: int, g0: float, mu: float) -> float:
+    """Gravitational acceleration in m/s^2 at radius r (m): g0, or mu / r^2 (mu in m^3/s^2)."""
+    if model == GRAVITY_CONSTANT:
+        return g0
+    return mu / (r * r)
+
+
+def derivatives(x, rho, lift_acc, cl_s_m, cd_s_m, sigma, gravity_model, g0, mu):
+    """Time derivative of x = (r, theta, phi, v, gamma, psi), SI units.
+
+    rho: density (kg/m^3); lift_acc: commanded lift acceleration (m/s^2); cl_s_m, cd_s_m: C_L S/m
+    and C_D S/m (m^2/kg); sigma: bank angle (rad, positive turns toward increasing psi).
+    Seed 002 eqs. (1)-(6); seed 000 eq. (2.7) in the planar case.
+    """
+    r, _theta, phi, v, gamma, psi = x
+    q_over_m = 0.5 * rho * v * v
+    lift = lift_acc + q_over_m * cl_s_m
+    drag = q_over_m * cd_s_m
+    g = gravity(r, gravity_model, g0, mu)
+    cg, sg = math.cos(gamma), math.sin(gamma)
+    cp, sp = math.cos(psi), math.sin(psi)
+    v_over_r = v / r
+    return (
+        v * sg,
+        v * cg * cp / (r * math.cos(phi)),
+        v * cg * sp / r,
+        -drag - g * sg,
+        (lift * math.cos(sigma) - (g - v * v_over_r) * cg) / v,
+        (lift * math.sin(sigma) / cg - v * v_over_r * cg * cp * math.tan(phi)) / v,
+    )
+
+
+def rk4_step(x, dt, args):
+    """One classical Runge-Kutta step of `derivatives` over dt (s) with inputs `args` held."""
+    k1 = derivatives(x, *args)
+    k2 = derivatives([a + 0.5 * dt * b for a, b in zip(x, k1)], *args)
+    k3 = derivatives([a + 0.5 * dt * b for a, b in zip(x, k2)], *args)
+    k4 = derivatives([a + dt * b for a, b in zip(x, k3)], *args)
+    s = dt / 6.0
+    return [a + s * (b + 2.0 * c + 2.0 * d + e) for a, b, c, d, e in zip(x, k1, k2, k3, k4)]
+
+
+def integrate(x, dt, max_substep, args):
+    """Advance x over dt (s) by RK4 in equal substeps no longer than max_substep (s)."""
+    n = max(1, math.ceil(dt / max_substep - 1e-9))
+    h = dt / n
+    for _ in range(n):
+        x = rk4_step(x, h, args)
+    return x

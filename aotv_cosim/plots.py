@@ -1,0 +1,59 @@
+"""PNG plots of a run: an overview of every recorded signal and the scenario's own plots."""
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+PANELS = 12
+"""Panels per overview page."""
+
+
+def _unit(system, signal):
+    unit = system.variable(signal).unit
+    return f" [{unit}]" if unit else ""
+
+
+def overview(out_dir, system, columns, times, rows, title):
+    """overview.png (and overview-2.png, ...): each recorded signal against time."""
+    files = []
+    for page, first in enumerate(range(0, len(columns), PANELS)):
+        names = columns[first:first + PANELS]
+        ncols = 3 if len(names) > 4 else 2 if len(names) > 1 else 1
+        nrows = math.ceil(len(names) / ncols)
+        fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 2.6 * nrows), squeeze=False)
+        for ax, name in zip(axes.flat, names):
+            ax.plot(times, rows[:, columns.index(name)], lw=1.2)
+            ax.set_title(name + _unit(system, name), fontsize=9)
+            ax.set_xlabel("time [s]", fontsize=8)
+            ax.tick_params(labelsize=7)
+            ax.grid(alpha=0.3)
+        for ax in list(axes.flat)[len(names):]:
+            ax.axis("off")
+        fig.suptitle(title, fontsize=10)
+        fig.tight_layout()
+        path = out_dir / ("overview.png" if page == 0 else f"overview-{page + 1}.png")
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        files.append(path.name)
+    return files
+
+
+def custom(out_dir, system, spec, columns, times, rows):
+    """plot_<name>.png: the signals of one scenario plot against time or another signal."""
+    x_name = spec.get("x", "time")
+    x = times if x_name == "time" else rows[:, columns.index(x_name)]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for name in spec["signals"]:
+        ax.plot(x, rows[:, columns.index(name)], lw=1.3, label=name + _unit(system, name))
+    ax.set_xlabel("time [s]" if x_name == "time" else x_name + _unit(system, x_name))
+    ax.set_title(spec.get("title", spec["name"]))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = out_dir / f"plot_{spec['name']}.png"
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path.name

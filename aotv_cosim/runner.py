@@ -1,0 +1,71 @@
+"""Run a Scenario into an output folder: time series, summary.json and plots."""
+
+import platform
+from pathlib import Path
+
+from aotv_cosim import __version__, plots
+from aotv_cosim.master import Master, signals_to_read
+from aotv_cosim.results import (TimeSeriesWriter, evaluate_expectations, statistics,
+                                write_json_atomically)
+
+
+def recorded_columns(scenario):
+    """The CSV columns: the scenario's records, then any other signal its checks and plots use."""
+    extra = [s for s in signals_to_read(scenario) if s not in scenario.record
+             and s not in {f"{c.source}.{c.output}" for c in scenario.system.connections}]
+    wanted = scenario.record + [c.signal for c in scenario.stop_conditions]
+    wanted += [e.signal for e in scenario.expectations] + extra
+    return list(dict.fromkeys(wanted))
+
+
+def run_scenario(scenario, out_dir, progress=None, make_plots=True):
+    """Run and write results; returns the summary dict (also in out_dir/summary.json)."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    writer = None
+
+    def record(times, rows):
+        nonlocal writer
+        if writer is None:
+            writer = TimeSeriesWriter(out_dir, recorded_columns(scenario), master.index)
+        writer(times, rows)
+
+    master = Master(scenario, record, progress)
+    outcome = master.run()
+    columns = recorded_columns(scenario)
+    if writer is None:  # failed before the first row: still leave a readable, empty series
+        writer = TimeSeriesWriter(out_dir, [], {})
+        columns = []
+    writer.close()
+    times, rows = writer.table()
+    final, minima, maxima = statistics(columns, times, rows)
+    summary = {
+        "scenario": str(scenario.path),
+        "system": str(scenario.system.path),
+        "description": scenario.description,
+        "status": outcome.status,
+        "stop_reason": outcome.stop_reason,
+        "error": outcome.error,
+        "error_detail": outcome.error_detail,
+        "event": outcome.event,
+        "algorithm": scenario.algorithm,
+        "start": scenario.start, "stop": scenario.stop, "step": scenario.step,
+        "end_time": float(times[-1]) if len(times) else None,
+        "steps": outcome.steps,
+        "wall_time_s": outcome.wall_time,
+        "init_time_s": outcome.init_time,
+        "us_per_step": (outcome.wall_time - outcome.init_time) / outcome.steps * 1e6 if outcome.steps else None,
+        "final": final, "min": minima, "max": maxima,
+        "expectations": evaluate_expectations(scenario.expectations, columns, times, rows,
+                                              outcome.event) if outcome.status == "completed" else [],
+        "fmus": outcome.fmus,
+        "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
+        "plots": [],
+    }
+    if make_plots and len(times) > 1:
+        summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
+                                          scenario.path.stem)
+        summary["plots"] += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
+                             for spec in scenario.plots]
+    write_json_atomically(out_dir / "summary.json", summary)
+    return summary

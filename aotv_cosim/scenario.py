@@ -1,0 +1,137 @@
+"""Scenario file -> validated Scenario: system, times, overrides, stop conditions, records, checks."""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from aotv_cosim.documents import load_document
+from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.system import System, load_system
+
+
+@dataclass(frozen=True)
+class StopCondition:
+    """Stop when `signal` crosses `threshold` in `direction` ('up', 'down' or 'either')."""
+
+    signal: str
+    threshold: float
+    direction: str = "either"
+
+
+@dataclass(frozen=True)
+class Expectation:
+    """A checked number: `signal` at end/min/max/event/time must equal `value` within tolerance."""
+
+    signal: str
+    at: object
+    value: float
+    source: str
+    tolerance: float = None
+    rel_tolerance: float = None
+    note: str = ""
+
+    def allowed_error(self) -> float:
+        """Largest accepted |measured - value|: the larger of the absolute and relative bounds."""
+        bounds = [self.tolerance or 0.0, (self.rel_tolerance or 0.0) * abs(self.value)]
+        return max(bounds)
+
+
+@dataclass
+class Scenario:
+    path: Path
+    system: System
+    start: float
+    stop: float
+    step: float
+    algorithm: str = "gauss-seidel"
+    stop_conditions: list = field(default_factory=list)
+    record: list = field(default_factory=list)
+    record_every: int = 1
+    expectations: list = field(default_factory=list)
+    plots: list = field(default_factory=list)
+    description: str = ""
+
+
+def parse_sets(pairs, origin="--set") -> dict:
+    """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be)."""
+    from aotv_cosim.documents import json_value
+
+    values = {}
+    for text in pairs or ():
+        if "=" not in text or "." not in text.split("=", 1)[0]:
+            raise InputError(f"cannot read {text!r}", file=origin, fix="write component.variable=value")
+        key, raw = text.split("=", 1)
+        values[key.strip()] = json_value(raw.strip())
+    return values
+
+
+def load_scenario(path, sets=None, step=None) -> Scenario:
+    """Load a scenario; `sets` ({'comp.var': value}, from --set) and `step` override the file."""
+    path = Path(path).resolve()
+    doc = load_document(path, "scenario")
+    system_path = (path.parent / doc["system"]).resolve()
+    overrides = dict(doc.get("parameters", {}))
+    try:
+        system = load_system(system_path, overrides, overrides_file=path) if not sets else \
+            load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
+    except InputError as exc:
+        if exc.cause == "file not found" and Path(str(exc.file)) == system_path:
+            raise InputError(f"wiring file not found: {system_path}", file=path, entry="system",
+                             fix="give the wiring file's path relative to the scenario") from exc
+        raise
+    scenario = Scenario(
+        path=path, system=system, start=float(doc.get("start", 0.0)), stop=float(doc["stop"]),
+        step=float(step if step is not None else doc["step"]),
+        algorithm=doc.get("algorithm", "gauss-seidel"),
+        stop_conditions=[StopCondition(c["signal"], float(c["crosses"]), c.get("direction", "either"))
+                         for c in doc.get("stop_conditions", [])],
+        record=list(doc.get("record", system.outputs())),
+        record_every=int(doc.get("record_every", 1)),
+        expectations=[Expectation(e["signal"], e["at"], float(e["value"]), e["source"],
+                                  e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
+                      for e in doc.get("expectations", [])],
+        plots=list(doc.get("plots", [])),
+        description=doc.get("description", ""),
+    )
+    _check_times(scenario)
+    _check_signals(scenario, doc)
+    return scenario
+
+
+def _check_times(s: Scenario):
+    problems = []
+    if not s.step > 0:
+        problems.append(InputError(f"step must be positive, got {s.step}", file=s.path, entry="step",
+                                   fix="give a communication step in s, e.g. 0.1"))
+    if not s.stop > s.start:
+        problems.append(InputError(f"stop ({s.stop}) must be after start ({s.start})", file=s.path,
+                                   entry="stop", fix="give a stop time later than the start time"))
+    raise_if_any(problems)
+
+
+def _check_signals(s: Scenario, doc):
+    outputs = set(s.system.outputs())
+    problems = []
+
+    def check(signal, entry):
+        if signal in outputs:
+            return
+        comp = signal.split(".", 1)[0]
+        known = [o for o in sorted(outputs) if o.startswith(comp + ".")]
+        fix = f"use an output: {', '.join(known)}" if known else \
+            f"use a component of the system: {', '.join(s.system.components)}"
+        problems.append(InputError(f"{signal} is not an output of the system", file=s.path,
+                                   entry=entry, fix=fix))
+
+    for k, c in enumerate(s.stop_conditions):
+        check(c.signal, f"stop_conditions[{k}].signal")
+    for k, signal in enumerate(s.record):
+        check(signal, f"record[{k}]")
+    for k, e in enumerate(s.expectations):
+        check(e.signal, f"expectations[{k}].signal")
+        if e.at == "event" and not s.stop_conditions:
+            problems.append(InputError("'event' needs a stop condition", file=s.path,
+                                       entry=f"expectations[{k}].at", fix="add stop_conditions or use 'end'"))
+    for k, p in enumerate(s.plots):
+        for signal in p["signals"] + ([p["x"]] if p.get("x", "time") != "time" else []):
+            check(signal, f"plots[{k}]")
+    raise_if_any(problems)

@@ -1,0 +1,355 @@
+"""Wiring file -> validated System: components, FMUs, parameter values, connections, order.
+
+Checks made on load, each reported with the file and the entry: unknown component or variable,
+causality (an output feeds an input), type and declared unit agreement, at most one source per
+input, every input connected or given a value, values of the right type, and no loop of direct
+feedthrough. Feedthrough is read per variable from the FMUs' ModelStructure (`Outputs`
+dependencies; none declared means the output depends on every input), so a vehicle whose heating
+output depends on the density input does not form a loop with the atmosphere whose density
+depends on the vehicle's altitude: only chains of same-instant dependencies do.
+"""
+
+import math
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+
+from fmpy import read_model_description
+
+from aotv_cosim import fmu_build
+from aotv_cosim.documents import load_document
+from aotv_cosim.errors import AotvError, InputError, raise_if_any
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One scalar variable of an FMU, as its modelDescription declares it."""
+
+    name: str
+    vr: int
+    type: str
+    causality: str
+    variability: str
+    unit: str
+    start: object
+    description: str
+
+
+@dataclass
+class FmuInfo:
+    """An FMU file and what its modelDescription says."""
+
+    path: Path
+    model_description: object
+    variables: dict
+    feedthrough: dict
+    initial_feedthrough: dict
+
+    @property
+    def guid(self):
+        return self.model_description.guid
+
+    @property
+    def model_identifier(self):
+        return self.model_description.coSimulation.modelIdentifier
+
+
+@dataclass
+class Component:
+    name: str
+    fmu_ref: str
+    fmu: FmuInfo
+    parameters: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Connection:
+    source: str
+    output: str
+    target: str
+    input: str
+
+    def __str__(self):
+        return f"{self.source}.{self.output} -> {self.target}.{self.input}"
+
+
+@dataclass
+class System:
+    """A validated wiring: components in file order and their connections."""
+
+    path: Path
+    components: dict
+    connections: list
+
+    def variable(self, signal: str) -> Variable:
+        comp, var = signal.split(".", 1)
+        return self.components[comp].fmu.variables[var]
+
+    def outputs(self):
+        """Every output signal 'component.variable', in component and declaration order."""
+        return [f"{c.name}.{v.name}" for c in self.components.values()
+                for v in c.fmu.variables.values() if v.causality == "output"]
+
+    def source_of(self):
+        """{(target, input): (source, output)} for every connection."""
+        return {(c.target, c.input): (c.source, c.output) for c in self.connections}
+
+    def gauss_seidel_order(self):
+        """Component order for Gauss-Seidel stepping.
+
+        A connection is 'immediate' when its target input feeds through (same instant) to an
+        output of the target that is itself connected onward: its source must be stepped first
+        so that algebraic chains see consistent values. All other connections (into states, or
+        into outputs only recorded) are delayed by one step and break cycles. Components are
+        sorted topologically over the immediate connections, ties kept in file order.
+        """
+        connected = {(c.source, c.output) for c in self.connections}
+        after = {name: set() for name in self.components}
+        for c in self.connections:
+            fmu = self.components[c.target].fmu
+            if any(c.input in deps and (c.target, out) in connected
+                   for out, deps in fmu.feedthrough.items()):
+                after[c.target].add(c.source)
+        order, placed = [], set()
+        while len(order) < len(after):
+            ready = [n for n in after if n not in placed and after[n] <= placed]
+            if not ready:
+                raise InputError("components depend on each other at the same instant",
+                                 file=self.path, entry="connections",
+                                 fix="break the feedthrough cycle")
+            order.append(ready[0])
+            placed.add(ready[0])
+        return order
+
+
+def resolve_fmu(ref: str, base: Path) -> Path:
+    """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
+    if ref.endswith(".fmu"):
+        return (base / ref).resolve()
+    return fmu_build.ensure_fmu(ref)
+
+
+def check_archive(path: Path) -> None:
+    """Refuse an FMU archive whose member names are absolute or climb out with '..'."""
+    with zipfile.ZipFile(path) as archive:
+        for name in archive.namelist():
+            pure = PurePosixPath(name.replace("\\", "/"))
+            drive = bool(pure.parts) and ":" in pure.parts[0]
+            if pure.is_absolute() or ".." in pure.parts or drive:
+                raise InputError(f"archive member {name!r} escapes the extraction folder", file=path,
+                                 fix="rebuild the FMU with relative member names")
+
+
+def read_fmu(path: Path, *, file, entry) -> FmuInfo:
+    """Read an FMU's modelDescription into an FmuInfo; InputError if missing or corrupt."""
+    if not path.is_file():
+        raise InputError(f"FMU file not found: {path}", file=file, entry=entry,
+                         fix="correct the path (relative to the wiring file) or build the FMU")
+    try:
+        check_archive(path)
+        md = read_model_description(str(path))
+    except InputError as exc:
+        exc.entry = entry
+        raise
+    except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
+        raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
+                         fix="give a valid FMI 2.0 co-simulation FMU")
+    if md.fmiVersion != "2.0" or md.coSimulation is None:
+        raise InputError(f"{path.name} is not an FMI 2.0 co-simulation FMU", file=file, entry=entry,
+                         fix="export the FMU for FMI 2.0 co-simulation")
+    variables = {v.name: Variable(v.name, v.valueReference, v.type, v.causality, v.variability,
+                                  v.unit or (v.declaredType.unit if v.declaredType else None) or "",
+                                  v.start, v.description or "")
+                 for v in md.modelVariables}
+    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
+    feedthrough = _dependencies(md.outputs, inputs)
+    initial = _dependencies(md.initialUnknowns, inputs)
+    return FmuInfo(path, md, variables, feedthrough, {**feedthrough, **initial})
+
+
+def _dependencies(unknowns, inputs):
+    """{output: set of inputs it depends on}; no dependencies attribute means all inputs."""
+    deps = {}
+    for u in unknowns:
+        if u.dependencies is None:
+            deps[u.variable.name] = set(inputs)
+        else:
+            deps[u.variable.name] = {d.name for d in u.dependencies if d.causality == "input"}
+    return deps
+
+
+def parse_connection(text: str) -> Connection:
+    left, right = (s.strip() for s in text.split("->"))
+    source, output = left.split(".", 1)
+    target, inp = right.split(".", 1)
+    return Connection(source, output, target, inp)
+
+
+def check_value(var: Variable, value, *, file, entry):
+    """Problems with giving `value` to variable `var` (type, finiteness, causality)."""
+    if var.causality not in ("parameter", "input"):
+        return [InputError(f"{var.name} is an {var.causality}, it cannot be given a value",
+                           file=file, entry=entry, fix="set a parameter or an unconnected input")]
+    ok = {"Real": isinstance(value, (int, float)) and not isinstance(value, bool),
+          "Integer": isinstance(value, int) and not isinstance(value, bool),
+          "Boolean": isinstance(value, bool),
+          "String": isinstance(value, str)}.get(var.type, False)
+    if not ok:
+        return [InputError(f"{var.name} is {var.type}, got {value!r}", file=file, entry=entry,
+                           fix=f"give a {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
+    if var.type == "Real" and not math.isfinite(value):
+        return [InputError(f"{var.name} must be finite, got {value!r}", file=file, entry=entry,
+                           fix="give a finite number")]
+    return []
+
+
+def load_system(path, overrides=None, overrides_file=None) -> System:
+    """Load and validate a wiring file; `overrides` {'comp.var': value} take precedence.
+
+    overrides_file names where the overrides came from, for error messages.
+    """
+    path = Path(path).resolve()
+    doc = load_document(path, "wiring")
+    problems = []
+    components = {}
+    for name, spec in doc["components"].items():
+        entry = f"components.{name}.fmu"
+        try:
+            fmu_path = resolve_fmu(spec["fmu"], path.parent)
+            info = read_fmu(fmu_path, file=path, entry=entry)
+        except AotvError as exc:
+            exc.file = exc.file or path
+            exc.entry = exc.entry or entry
+            problems.append(exc)
+            continue
+        components[name] = Component(name, spec["fmu"], info, dict(spec.get("parameters", {})))
+    raise_if_any(problems)
+
+    for comp in components.values():
+        for var, value in comp.parameters.items():
+            entry = f"components.{comp.name}.parameters.{var}"
+            problems += _check_known(comp, var, path, entry) or check_value(
+                comp.fmu.variables[var], value, file=path, entry=entry)
+    for signal, value in (overrides or {}).items():
+        entry = f"parameters.{signal}"
+        comp_name, var = signal.split(".", 1) if "." in signal else (signal, "")
+        if comp_name not in components:
+            problems.append(_unknown_component(comp_name, components, overrides_file, entry))
+            continue
+        found = _check_known(components[comp_name], var, overrides_file, entry)
+        problems += found or check_value(components[comp_name].fmu.variables[var], value,
+                                         file=overrides_file, entry=entry)
+        if not found:
+            components[comp_name].parameters[var] = value
+
+    connections = []
+    for k, text in enumerate(doc["connections"]):
+        conn = parse_connection(text)
+        connections.append(conn)
+        problems += _check_connection(conn, components, path, f"connections[{k}] '{text}'")
+    raise_if_any(problems)
+
+    system = System(path, components, connections)
+    problems += _check_inputs(system)
+    raise_if_any(problems)
+    _check_loops(system)
+    return system
+
+
+def _unknown_component(name, components, file, entry):
+    return InputError(f"unknown component {name!r}", file=file, entry=entry,
+                      fix=f"use one of {', '.join(components)}")
+
+
+def _check_known(comp, var, file, entry):
+    if var in comp.fmu.variables:
+        return []
+    names = [v for v in comp.fmu.variables]
+    return [InputError(f"{comp.fmu.path.name} has no variable {var!r}", file=file, entry=entry,
+                       fix=f"use one of {', '.join(names)}")]
+
+
+def _check_connection(conn, components, file, entry):
+    problems = []
+    for comp, var, causality in ((conn.source, conn.output, "output"), (conn.target, conn.input, "input")):
+        if comp not in components:
+            problems.append(_unknown_component(comp, components, file, entry))
+            continue
+        known = _check_known(components[comp], var, file, entry)
+        if known:
+            problems += known
+            continue
+        actual = components[comp].fmu.variables[var].causality
+        if actual != causality:
+            side = "source" if causality == "output" else "target"
+            problems.append(InputError(f"{comp}.{var} is an {actual}, the {side} must be an {causality}",
+                                       file=file, entry=entry, fix="connect an output to an input"))
+    if problems:
+        return problems
+    out = components[conn.source].fmu.variables[conn.output]
+    inp = components[conn.target].fmu.variables[conn.input]
+    if out.type != inp.type:
+        problems.append(InputError(f"type mismatch: {out.type} -> {inp.type}", file=file, entry=entry,
+                                   fix="connect variables of the same type"))
+    elif out.unit and inp.unit and out.unit != inp.unit:
+        problems.append(InputError(f"unit mismatch: {out.unit} -> {inp.unit}", file=file, entry=entry,
+                                   fix="connect variables of the same unit (SI at every interface)"))
+    return problems
+
+
+def _check_inputs(system):
+    problems = []
+    seen = {}
+    for k, conn in enumerate(system.connections):
+        key = (conn.target, conn.input)
+        if key in seen:
+            problems.append(InputError(f"{conn.target}.{conn.input} has two sources ({seen[key]} and {conn})",
+                                       file=system.path, entry=f"connections[{k}]",
+                                       fix="keep one connection per input"))
+        seen[key] = str(conn)
+    for comp in system.components.values():
+        for var in comp.fmu.variables.values():
+            if var.causality != "input":
+                continue
+            connected = (comp.name, var.name) in seen
+            valued = var.name in comp.parameters
+            entry = f"components.{comp.name}"
+            if connected and valued:
+                problems.append(InputError(f"input {var.name} is both connected and given a value",
+                                           file=system.path, entry=f"{entry}.parameters.{var.name}",
+                                           fix="remove the value or the connection"))
+            elif not connected and not valued:
+                unit = f" in {var.unit}" if var.unit else ""
+                problems.append(InputError(f"input {var.name} is not connected and has no value",
+                                           file=system.path, entry=entry,
+                                           fix=f"connect it or set \"{var.name}\"{unit} under parameters"))
+    return problems
+
+
+def _check_loops(system):
+    """Reject a cycle of same-instant dependencies (an algebraic loop) between variables."""
+    edges = {}
+    for conn in system.connections:
+        edges.setdefault(("out", conn.source, conn.output), []).append(("in", conn.target, conn.input))
+    for comp in system.components.values():
+        for out, deps in comp.fmu.feedthrough.items():
+            for inp in deps:
+                edges.setdefault(("in", comp.name, inp), []).append(("out", comp.name, out))
+    state = {}
+
+    def visit(node, trail):
+        state[node] = "open"
+        for nxt in edges.get(node, ()):
+            if state.get(nxt) == "open":
+                cycle = trail[trail.index(nxt):] + [nxt]
+                text = " -> ".join(f"{c}.{v}" for kind, c, v in cycle if kind == "out")
+                raise InputError(f"algebraic loop of direct feedthrough: {text}", file=system.path,
+                                 entry="connections",
+                                 fix="break the loop with a component that has no direct feedthrough")
+            if nxt not in state:
+                visit(nxt, trail + [nxt])
+        state[node] = "done"
+
+    for node in list(edges):
+        if node not in state:
+            visit(node, [node])
