@@ -47,6 +47,7 @@ class FmuInstance:
         self.name = name
         self.info = info
         self.time = start_time
+        self.broken = False
         self.messages = collections.deque(maxlen=50)
         md = info.model_description
         self.slave = FMU2Slave(guid=md.guid, unzipDirectory=str(extracted(info.path)),
@@ -92,6 +93,7 @@ class FmuInstance:
         """A SimulationError naming this component, the call, the time and the FMU's message."""
         what = f"{call} returned {STATUS.get(status, status)}" if status is not None else call
         where = f"{self.name}.{variable}" if variable else self.name
+        self.broken = status is not None and status > 2 or status is None
         error = SimulationError(f"{what} at t = {time:.6g} s: {self.last_message()}",
                                 file=self.info.path.name, entry=where,
                                 fix="see the FMU's log above; the results up to this time are saved")
@@ -137,10 +139,14 @@ class FmuInstance:
     def close(self):
         """Terminate and free the instance, ignoring a failure to do so (the run is over).
 
-        The shared library stays loaded: a pythonfmu library cannot be unloaded and loaded
-        again in the same process, and the next run of the same FMU reuses it.
+        An instance that returned error or fatal is not freed: pythonfmu 0.7 already released
+        its Python objects when the exception occurred, and freeing it releases them a second
+        time, corrupting the interpreter's memory (a crash at the next garbage collection). The
+        few kilobytes it holds are left to the process's end.
         """
-        for call in (self.slave.terminate, lambda: self.slave.fmi2FreeInstance(self.component)):
+        if self.broken:
+            return
+        for call in (self.slave.terminate, self.slave.freeInstance):
             try:
                 call()
             except Exception:

@@ -37,6 +37,7 @@ UNIT_EXPONENTS = {
     "Pa": {"kg": 1, "m": -1, "s": -2},
     "W/m2": {"kg": 1, "s": -3},
     "kg/(s.m)": {"kg": 1, "m": -1, "s": -1},
+    "1/m": {"m": -1},
 }
 
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}

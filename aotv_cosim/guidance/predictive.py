@@ -1,0 +1,204 @@
+"""Predictive time-linear control of seed 000 (Ch. 6) and predictive adaptation to K (Sec. 8.1).
+
+Given a (perturbed) entry state and the unchanged exit targets, find the law u = a + b t (4.8)
+and the time in the atmosphere tf' such that the planar model (2.7), flown from the entry, meets
+all three exit conditions at tf' (Ch. 6: six boundary conditions, three unknowns, free tf').
+
+`solve_predictive` solves the three terminal residuals for (a, b, tf') at once by damped Newton,
+with the exact Jacobian: the sensitivities d x(tf)/d(a, b) are integrated with the state (linear
+variational equations with the matrices of eqs. 5.2/5.3) and d x(tf)/d tf' = f(x(tf'), u(tf')).
+`solve_predictive_thesis` is the thesis's own iteration (6.1)-(6.4), kept as a faithful mode: an
+inner 2-unknown shooting for (a, b) at fixed tf', then the tf' update (6.3) with the closed-form
+slope (6.4). It does not converge (extraction Sec. 8 item 12) and reports its tf' history.
+
+Everything here is SI (m, m/s, rad, m/s^2, s); the equations are unit-consistent. K (k_ball) is in
+1/m, as in Table 8.1, except inside the fits (8.2)-(8.4), which need it in 1/km.
+"""
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from aotv_cosim.guidance.time_linear import closed_form_gamma_rate
+from aotv_cosim.physics.planar import (
+    EXIT_000, K_BALL_000, AotvConstants, dynamics, input_b, jacobian_a,
+)
+
+RTOL = 1e-10
+"""Relative tolerance of the DOP853 integrations."""
+_ATOL = np.array([1e-5, 1e-7, 1e-12, 1e-6, 1e-6, 1e-6, 1e-9, 1e-9, 1e-9])
+"""Absolute tolerances of (r m, v m/s, gamma rad) and of the six sensitivities to (a, b)."""
+TERMINAL_TOL = np.array([1e-2, 1e-5, 1e-8])
+"""Convergence test on the exit residuals (h m, v m/s, gamma rad)."""
+
+
+@dataclass(frozen=True)
+class PredictiveSolution:
+    """A time-linear law u = a + b t on [0, tf] (eq. 4.8) and how it was found.
+
+    a in m/s^2, b in m/s^3, tf (tf') in s; residual: exit error (h m, v m/s, gamma rad) of the
+    last trajectory flown; iterations: Newton iterations (integrations); solve_time in s.
+    """
+
+    a: float
+    b: float
+    tf: float
+    residual: np.ndarray
+    iterations: int
+    converged: bool
+    solve_time: float
+
+
+def _entry_state(entry, c: AotvConstants) -> np.ndarray:
+    """(h m, v m/s, gamma rad) -> (r m, v m/s, gamma rad)."""
+    return np.array([c.r_earth + entry[0], entry[1], entry[2]])
+
+
+def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConstants):
+    """State x(tf) (r m, v m/s, gamma rad) of (2.7) under u = a + b t and the 3x3 Jacobian of
+    x(tf) with respect to (a, b, tf).
+
+    The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
+    along the trajectory; (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
+    relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
+    """
+
+    def rhs(t, y):
+        x, u = y[:3], a + b * t
+        s = jacobian_a(x, u, c) @ y[3:].reshape(3, 2)
+        bvec = input_b(x)
+        s[:, 0] += bvec
+        s[:, 1] += bvec * t
+        return np.concatenate([dynamics(x, u, c), s.ravel()])
+
+    y0 = np.concatenate([x0, np.zeros(6)])
+    y = solve_ivp(rhs, (0.0, tf), y0, method="DOP853", rtol=RTOL, atol=_ATOL).y[:, -1]
+    x = y[:3]
+    jac = np.column_stack([y[3:].reshape(3, 2), dynamics(x, a + b * tf, c)])
+    return x, jac
+
+
+def _residual(x, exit_target, c: AotvConstants) -> np.ndarray:
+    """Exit error (h m, v m/s, gamma rad) of the state x = (r, v, gamma)."""
+    return np.array([x[0] - c.r_earth - exit_target[0], x[1] - exit_target[1],
+                     x[2] - exit_target[2]])
+
+
+def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
+                     guess: Optional[Tuple[float, float, float]] = None,
+                     max_iter: int = 20) -> PredictiveSolution:
+    """Solve for (a, b, tf') of the predictive time-linear law (Ch. 6, eqs. 4.8, 6.1, 6.2).
+
+    entry: (h0 m, v0 m/s, gamma0 rad); exit_target: (hf m, vf m/s, gammaf rad); k_ball: K in 1/m.
+    guess: (a m/s^2, b m/s^3, tf s); None starts from the K fit (8.2)-(8.4) with the corrected
+    intercept. Damped Newton on the three exit residuals: the step is halved until the scaled
+    residual norm decreases (scales 1 km, 1 m/s, 1 mrad; at most 7 halvings).
+    """
+    start = time.perf_counter()
+    c = AotvConstants.si(k_ball)
+    x0 = _entry_state(entry, c)
+    z = np.array(guess if guess is not None else table_8_1_fit(k_ball, corrected_intercept=True))
+    weights = np.array([1e-3, 1.0, 1e3])
+    x, jac = _terminal_with_sensitivities(x0, *z, c)
+    res = _residual(x, exit_target, c)
+    iterations = 1
+    while not np.all(np.abs(res) < TERMINAL_TOL) and iterations < max_iter:
+        step = np.linalg.solve(jac, -res)
+        norm = np.linalg.norm(weights * res)
+        for halving in range(8):
+            trial = z + step / 2.0 ** halving
+            x, jac = _terminal_with_sensitivities(x0, *trial, c)
+            iterations += 1
+            res = _residual(x, exit_target, c)
+            if np.linalg.norm(weights * res) < norm:
+                break
+        z = trial
+    converged = bool(np.all(np.abs(res) < TERMINAL_TOL))
+    return PredictiveSolution(float(z[0]), float(z[1]), float(z[2]), res, iterations, converged,
+                              time.perf_counter() - start)
+
+
+def _solve_ab_fixed_tf(x0, exit_target, a: float, b: float, tf: float, c: AotvConstants,
+                       max_iter: int):
+    """Inner problem of Fig. 6.1: (a, b) meeting r(tf) = rf, v(tf) = vf at fixed tf, eq. (6.2).
+
+    Newton on the two residuals; returns (a, b, final state x(tf))."""
+    for _ in range(max_iter):
+        x, jac = _terminal_with_sensitivities(x0, a, b, tf, c)
+        res = _residual(x, exit_target, c)
+        if np.all(np.abs(res[:2]) < TERMINAL_TOL[:2]):
+            break
+        da, db = np.linalg.solve(jac[:2, :2], -res[:2])
+        a, b = a + da, b + db
+    return a, b, x
+
+
+def solve_predictive_thesis(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
+                            guess: Tuple[float, float, float] = (0.77, -2.57e-3, 300.0),
+                            n_updates: int = 12, inner_iter: int = 10):
+    """The thesis's iteration of Fig. 6.1, eqs. (6.1)-(6.4), run for n_updates tf' updates.
+
+    entry, exit_target in SI as in `solve_predictive`; guess: starting (a m/s^2, b m/s^3, tf' s).
+    Each pass solves (a, b) at fixed tf' (6.1)/(6.2), then applies (6.3) with the printed '+'
+    sign, tf' <- tf' + (gamma(tf') - gammaf) / (d gamma/d tf'), the slope being (6.4), the time
+    derivative of the closed form (4.22) at fixed (a, b). Returns the list of
+    (a, b, tf', gamma(tf') - gammaf) after each pass, in SI.
+    """
+    c = AotvConstants.si(k_ball)
+    x0 = _entry_state(entry, c)
+    a, b, tf = guess
+    history = []
+    for _ in range(n_updates):
+        a, b, x = _solve_ab_fixed_tf(x0, exit_target, a, b, tf, c, inner_iter)
+        miss = x[2] - exit_target[2]
+        history.append((float(a), float(b), float(tf), float(miss)))
+        tf = tf + miss / closed_form_gamma_rate(tf, entry, a, b)
+    return history
+
+
+def fly_time_linear(entry, a: float, b: float, tf: float, k_ball: float = K_BALL_000,
+                    t_eval=None):
+    """Fly (2.7) from entry (h0 m, v0 m/s, gamma0 rad) under u = a + b t on [0, tf] (DOP853).
+
+    Returns (t s, h m, v m/s, gamma rad) at t_eval (default: the solver's steps)."""
+    c = AotvConstants.si(k_ball)
+    sol = solve_ivp(lambda t, x: dynamics(x, a + b * t, c), (0.0, tf), _entry_state(entry, c),
+                    method="DOP853", rtol=RTOL, atol=_ATOL[:3], t_eval=t_eval)
+    return sol.t, sol.y[0] - c.r_earth, sol.y[1], sol.y[2]
+
+
+def estimate_k_ball(v_dot: float, h0: float, v0: float, gamma0: float,
+                    g: float = AotvConstants.si().g,
+                    scale_height: float = AotvConstants.si().scale_height) -> float:
+    """Ballistic parameter from the measured deceleration at entry, eq. (8.1), in 1/m.
+
+    K = -(v_dot + g sin gamma0) / (exp(-h0/H) v0^2), with v_dot the measured dv/dt (m/s^2, the
+    specific force along v, negative when decelerating), h0 in m, v0 in m/s, gamma0 in rad, g in
+    m/s^2, H in m. As in (2.7), K absorbs the base density rho_s.
+    """
+    return -(v_dot + g * math.sin(gamma0)) / (math.exp(-h0 / scale_height) * v0 * v0)
+
+
+TF_INTERCEPT_PRINTED = 448.94712
+"""Intercept of eq. (8.4) as printed, s."""
+TF_INTERCEPT_CORRECTED = 449.94712
+"""Intercept of the line through the first and last rows of Table 8.1, s: the printed value is
+1.000 s low at both end points (extraction Sec. 8 item 3)."""
+
+
+def table_8_1_fit(k_ball: float, corrected_intercept: bool = False) -> Tuple[float, float, float]:
+    """Linear fits (8.2)-(8.4) of Table 8.1: (a m/s^2, b m/s^3, tf s) for the nominal entry.
+
+    k_ball in 1/m (as Table 8.1 lists it); the fits are evaluated with K in 1/km, the only reading
+    that reproduces the table (extraction Sec. 8 item 2). corrected_intercept replaces the printed
+    448.94712 s of (8.4) by 449.94712 s.
+    """
+    k_km = k_ball * 1e3
+    intercept = TF_INTERCEPT_CORRECTED if corrected_intercept else TF_INTERCEPT_PRINTED
+    return (2.32306 * k_km + 0.090752,
+            (-8.99571 * k_km + 0.0623299) * 1e-3,
+            -503.94971 * k_km + intercept)

@@ -1,0 +1,77 @@
+"""Shared fixtures: paths, a scenario loader and a tiny fault-injection FMU."""
+
+import os
+
+# Tiny matrices are ~30x slower with OpenBLAS's thread pool on 2 shared cores.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import json  # noqa: E402
+import textwrap  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import pytest  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = ROOT / "scenarios"
+NOMINAL = SCENARIOS / "aotv_time_linear_nominal.json"
+WIRING = SCENARIOS / "systems" / "aotv_time_linear.json"
+
+
+def write_json(path: Path, data) -> Path:
+    path.write_text(json.dumps(data, indent=2))
+    return path
+
+
+@pytest.fixture
+def wiring_doc():
+    """The seed-000 wiring file as a dict, with the package FMUs named (paths need no rewrite)."""
+    return json.loads(WIRING.read_text())
+
+
+@pytest.fixture
+def scenario_doc():
+    """The nominal scenario as a dict whose system path is absolute."""
+    doc = json.loads(NOMINAL.read_text())
+    doc["system"] = str(WIRING)
+    return doc
+
+
+FAULTY_SOURCE = textwrap.dedent('''
+    from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+
+
+    class Faulty(Fmi2Slave):
+        """Test FMU: y = t; raises inside do_step once t passes fail_at (s), or outputs NaN."""
+
+        def __init__(self, **kwargs):
+            super().__init__(**kwargs)
+            self.fail_at = 1.0
+            self.nan_instead = 0.0
+            self.y = 0.0
+            self.register_variable(Real("fail_at", causality=Fmi2Causality.parameter,
+                                        variability=Fmi2Variability.fixed))
+            self.register_variable(Real("nan_instead", causality=Fmi2Causality.parameter,
+                                        variability=Fmi2Variability.fixed))
+            self.register_variable(Real("y", causality=Fmi2Causality.output))
+
+        def do_step(self, current_time, step_size):
+            t = current_time + step_size
+            if t > self.fail_at:
+                if self.nan_instead:
+                    self.y = float("nan")
+                    return True
+                raise RuntimeError(f"injected fault at t={t:.3f}")
+            self.y = t
+            return True
+''')
+
+
+@pytest.fixture(scope="session")
+def faulty_fmu(tmp_path_factory):
+    """A pythonfmu FMU that raises (or outputs NaN) after fail_at seconds."""
+    from pythonfmu.builder import FmuBuilder
+
+    folder = tmp_path_factory.mktemp("faulty")
+    script = folder / "Faulty.py"
+    script.write_text(FAULTY_SOURCE)
+    return FmuBuilder.build_FMU(script, dest=folder / "Faulty.fmu")

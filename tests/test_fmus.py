@@ -1,0 +1,107 @@
+"""The FMUs: build cache, compliance (fmpy validate, units, structure), reproducibility, standalone runs."""
+
+import os
+import subprocess
+import sys
+import textwrap
+import zipfile
+
+import pytest
+from fmpy import read_model_description
+from fmpy.validation import validate_fmu
+
+from aotv_cosim import fmu_build
+from aotv_cosim.physics import point_mass
+
+
+DIMENSIONLESS = {"load_factor", "saturated", "converged"}
+"""Real interface variables whose unit is 1 (no unit attribute)."""
+
+
+@pytest.fixture(scope="module")
+def built():
+    return fmu_build.build_all()
+
+
+def test_every_fmu_validates_with_units_and_structure(built):
+    assert set(built) >= {"Atmosphere", "PointMassVehicle", "TimeLinearGuidance", "LiftActuator"}
+    for name, path in built.items():
+        assert validate_fmu(str(path)) == [], name
+        md = read_model_description(str(path))
+        assert md.defaultExperiment is not None and md.defaultExperiment.stepSize
+        reals = [v for v in md.modelVariables if v.type == "Real" and v.causality != "parameter"]
+        assert all(v.unit or v.name in DIMENSIONLESS for v in reals), name
+        assert all(v.description for v in md.modelVariables), name
+        assert {u.variable.name for u in md.initialUnknowns} == {
+            v.name for v in md.modelVariables if v.causality == "output"}
+
+
+def test_feedthrough_is_declared_per_output(built):
+    md = read_model_description(str(built["PointMassVehicle"]))
+    deps = {u.variable.name: {d.name for d in u.dependencies} for u in md.outputs}
+    assert deps["h"] == set() and deps["v"] == set()
+    assert deps["qdot"] == {"rho"} and deps["load_factor"] == {"rho", "u_lift"}
+    md = read_model_description(str(built["Atmosphere"]))
+    assert {d.name for d in md.outputs[0].dependencies} == {"h"}
+
+
+def test_cache_is_keyed_by_source_hash(built):
+    path = built["Atmosphere"]
+    assert fmu_build.built_hash(path) == fmu_build.source_hash("Atmosphere")
+    mtime = path.stat().st_mtime_ns
+    assert fmu_build.ensure_fmu("Atmosphere") == path and path.stat().st_mtime_ns == mtime
+
+
+def test_two_builds_are_byte_identical(tmp_path):
+    a = fmu_build.ensure_fmu("PointMassVehicle", tmp_path / "a")
+    b = fmu_build.ensure_fmu("PointMassVehicle", tmp_path / "b")
+    assert a.read_bytes() == b.read_bytes()
+    with zipfile.ZipFile(a) as archive:
+        xml = archive.read("modelDescription.xml").decode()
+    assert "generationDateAndTime" not in xml and 'guid="{' in xml
+
+
+def test_fmu_class_must_define_do_step(tmp_path, monkeypatch):
+    """pythonfmu 0.7 finds the slave class through do_step's owner: an inherited do_step is refused."""
+    src = tmp_path / "fmus_src"
+    src.mkdir()
+    (src / "Bad.py").write_text("from aotv_cosim.actuator_slave import ActuatorSlave\n\n\n"
+                                "class Bad(ActuatorSlave):\n    unit = 'rad'\n")
+    monkeypatch.setattr(fmu_build, "fmus_src_dir", lambda: src)
+    with pytest.raises(fmu_build.BuildError, match="define do_step"):
+        fmu_build.check_defines_do_step("Bad")
+
+
+CLEAN_RUN = textwrap.dedent("""
+    import sys
+    from fmpy import simulate_fmu
+    try:
+        import aotv_cosim
+        sys.exit("aotv_cosim is importable in the clean environment")
+    except ImportError:
+        pass
+    r = simulate_fmu(sys.argv[1], stop_time=10.0, output_interval=0.1,
+                     start_values={"h0": 90000.0, "v0": 8200.0, "gamma0": -0.02, "rho": 5e-6})
+    h, expected = r["h"][-1], float(sys.argv[2])
+    assert abs(h - expected) < 1e-6 * expected, (h, expected)
+    print("clean run ok", h)
+""")
+
+
+@pytest.mark.skipif(os.environ.get("AOTV_SKIP_VENV") == "1", reason="AOTV_SKIP_VENV=1")
+def test_vehicle_runs_where_aotv_cosim_is_not_installed(built, tmp_path):
+    """A fresh venv with only fmpy (and numpy) runs the vehicle FMU in fmpy.simulate_fmu."""
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    python = venv / "bin" / "python"
+    subprocess.run([str(python), "-m", "pip", "install", "-q", "fmpy", "numpy"], check=True)
+    script = tmp_path / "clean_run.py"
+    script.write_text(CLEAN_RUN)
+    x = point_mass.integrate([6378.1e3 + 90e3, 0.0, 0.0, 8200.0, -0.02, 0.0], 10.0, 0.1,
+                             (5e-6, 0.0, 0.0, 0.1 / 300.0, 0.0, 0, 9.81, 0.0))
+    expected = x[0] - 6378.1e3
+    done = subprocess.run([str(python), str(script), str(built["PointMassVehicle"]), repr(expected)],
+                          cwd=tmp_path,
+                          capture_output=True, text=True, env={"PATH": os.environ["PATH"]})
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "clean run ok" in done.stdout
