@@ -1,10 +1,10 @@
 """TimeLinearGuidance FMU: approximate time-linear optimal lift law, seed 000 eqs. (4.23), (4.28)."""
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim import guidance_slave
 from aotv_cosim.guidance.time_linear import approximate_law_coefficients
 
 
-class TimeLinearGuidance(AotvSlave):
+class TimeLinearGuidance(guidance_slave.EntryLatchedGuidance):
     """u(t) = a + b (t - t0) on [t0, t0 + tf], 0 afterwards.
 
     (a, b) come from the empirical costate (4.28) evaluated on the entry state measured at
@@ -17,38 +17,19 @@ class TimeLinearGuidance(AotvSlave):
         super().__init__(**kwargs)
         self.parameter("tf", 300.0, "s", "Fixed final time of the law")
         self.parameter("weight", 1.0, "1", "Control weight R of J = integral R u^2 dt")
-        self.input("h", 90e3, "m", "Measured altitude (latched at initialization)")
-        self.input("v", 8200.0, "m/s", "Measured speed (latched at initialization)")
-        self.input("gamma", -0.02, "rad", "Measured flight-path angle (latched at initialization)")
-        entry = ("h", "v", "gamma")
-        self.output("u", "m/s2", "Lift acceleration command", self._command,
-                    initial_depends_on=entry)
-        self.output("a", "m/s2", "Intercept a of u = a + b t", lambda: self._coefficients()[0],
-                    initial_depends_on=entry)
-        self.output("b", "m/s3", "Slope b of u = a + b t", lambda: self._coefficients()[1],
-                    initial_depends_on=entry)
-        self.time = 0.0
-        self.latched = None
+        self.solution_output("u", "m/s2", "Lift acceleration command", self.current_command)
+        self.solution_output("a", "m/s2", "Intercept a of u = a + b t", lambda: self.solution()[0])
+        self.solution_output("b", "m/s3", "Slope b of u = a + b t", lambda: self.solution()[1])
 
-    def _coefficients(self):
-        if self.latched is not None:
-            return self.latched
+    def solve(self):
         return approximate_law_coefficients(self.v, self.gamma, self.h, self.tf, self.weight)
 
-    def _command(self):
-        elapsed = self.time - self.start_time
-        if elapsed > self.tf * (1.0 + 1e-12):
-            return 0.0
-        a, b = self._coefficients()
+    def final_time(self, solution):
+        return self.tf
+
+    def command(self, solution, elapsed):
+        a, b = solution
         return a + b * elapsed
 
-    def enter_initialization_mode(self):
-        self.latched = None
-        self.time = self.start_time
-
-    def exit_initialization_mode(self):
-        self.latched = self._coefficients()
-
-    def do_step(self, current_time, step_size):
-        self.time = current_time + step_size
-        return True
+    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+        return self.advance(current_time, step_size)

@@ -1,0 +1,74 @@
+"""Adapter base of the open-loop guidance FMUs: a law solved from the measured entry state.
+
+The subclass says how to solve (`solve`) and how to command from the solution (`command`); this
+base declares the measured entry-state inputs h, v, gamma, solves once per distinct entry state
+and parameter set while initializing (outputs read in initialization mode follow the inputs, as
+the master propagates the vehicle's entry state), latches the solution when initialization ends,
+and commands 0 after the law's final time. Bundled into the FMUs.
+"""
+
+from abc import abstractmethod
+
+from aotv_cosim.fmu_slave import AotvSlave
+
+ENTRY = ("h", "v", "gamma")
+
+
+class EntryLatchedGuidance(AotvSlave):
+    """Guidance flown open loop from a solution computed at initialization."""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.input("h", 90e3, "m", "Measured altitude (latched at initialization)")
+        self.input("v", 8200.0, "m/s", "Measured speed (latched at initialization)")
+        self.input("gamma", -0.02, "rad", "Measured flight-path angle (latched at initialization)")
+        self.time = 0.0
+        self.latched = None
+        self._cache_key = None
+        self._cache = None
+
+    def solution_output(self, name, unit, description, getter):
+        """Declare an output that depends on the entry state during initialization."""
+        self.output(name, unit, description, getter, initial_depends_on=ENTRY)
+
+    @abstractmethod
+    def solve(self):
+        """The law's solution for the current entry state and parameters (subclass)."""
+
+    @abstractmethod
+    def final_time(self, solution) -> float:
+        """Time after the start (s) beyond which the command is 0 (subclass)."""
+
+    @abstractmethod
+    def command(self, solution, elapsed: float) -> float:
+        """The lift-acceleration command (m/s^2) `elapsed` seconds after the start (subclass)."""
+
+    def solution(self):
+        """The latched solution, or the one for the current inputs (solved once per key)."""
+        if self.latched is not None:
+            return self.latched
+        key = tuple(getattr(self, v.name) for v in self.vars.values()
+                    if v.causality.name in ("input", "parameter"))
+        if key != self._cache_key:
+            self._cache = self.solve()
+            self._cache_key = key
+        return self._cache
+
+    def current_command(self):
+        solution = self.solution()
+        elapsed = self.time - self.start_time
+        if elapsed > self.final_time(solution) * (1.0 + 1e-12):
+            return 0.0
+        return float(self.command(solution, elapsed))
+
+    def enter_initialization_mode(self):
+        self.latched = None
+        self.time = self.start_time
+
+    def exit_initialization_mode(self):
+        self.latched = self.solution()
+
+    def advance(self, current_time, step_size):
+        """The FMU's do_step body: the command is a function of time only."""
+        self.time = current_time + step_size
+        return True
