@@ -217,7 +217,7 @@ class Master:
             outcome.status, outcome.stop_reason = "interrupted", "interrupted by a signal"
         finally:
             try:
-                rows.flush(final=True)
+                rows.flush()
             except SimulationError as exc:  # non-finite value found in the last chunk
                 outcome.status, outcome.error = "failed", str(exc)
                 outcome.stop_reason = "non-finite value"
@@ -306,7 +306,7 @@ class Rows:
             if len(self.rows) >= CHUNK:
                 self.flush()
 
-    def flush(self, final=False):
+    def flush(self):
         if not self.rows:
             return
         times, rows = np.array(self.times), np.vstack(self.rows)
