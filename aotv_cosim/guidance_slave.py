@@ -10,6 +10,7 @@ and commands 0 after the law's final time. Bundled into the FMUs.
 from abc import abstractmethod
 
 from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.physics.planar import EXIT_000, K_BALL_000
 
 ENTRY = ("h", "v", "gamma")
 
@@ -26,6 +27,18 @@ class EntryLatchedGuidance(AotvSlave):
         self.latched = None
         self._cache_key = None
         self._cache = None
+
+    def exit_targets_and_k(self):
+        """Declare the exit targets hf, vf, gammaf and the ballistic parameter K_ball.
+
+        Defaults are seed 000 Table 4.1 (exit 90 km, 8150 m/s, 0.0144 rad) and K of eq. (2.8),
+        rho_s C_D0 / (2 m/S) = 2.92e-4 1/m.
+        """
+        hf, vf, gammaf = EXIT_000
+        self.parameter("hf", hf, "m", "Exit altitude target")
+        self.parameter("vf", vf, "m/s", "Exit speed target")
+        self.parameter("gammaf", gammaf, "rad", "Exit flight-path angle target")
+        self.parameter("K_ball", K_BALL_000, "1/m", "Ballistic parameter K of eq. (2.8) used by the solve")
 
     def solution_output(self, name, unit, description, getter):
         """Declare an output that depends on the entry state during initialization."""

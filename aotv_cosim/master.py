@@ -47,7 +47,6 @@ class Outcome:
     error: str = None
     error_detail: dict = None
     steps: int = 0
-    end_time: float = None
     wall_time: float = 0.0
     init_time: float = 0.0
     fmus: dict = field(default_factory=dict)
@@ -70,7 +69,6 @@ class _Plan:
         self.n_out = len(outputs)
         self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
         self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
-        self.outputs = outputs
         self.offset = offset
 
     def inputs(self, names, sources):
@@ -278,14 +276,12 @@ class Master:
                     outcome.stop_reason = (f"{cond.signal} crossed {threshold:g} "
                                            f"{'up' if up else 'down'} at t = {outcome.event['time']:.6g} s")
                     rows.add(t_new, force=True)
-                    outcome.end_time = t_new
                     return
             if conditions:
                 previous[:] = array
             rows.add(t_new, force=k == n_steps - 1)
             if self.progress and k % report_every == 0:
                 self.progress(t_new)
-        outcome.end_time = stop
 
 
 class Rows:

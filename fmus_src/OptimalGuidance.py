@@ -16,12 +16,9 @@ class OptimalGuidance(guidance_slave.EntryLatchedGuidance):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.parameter("tf", 300.0, "s", "Fixed final time of the transfer")
-        self.parameter("hf", 90e3, "m", "Exit altitude target")
-        self.parameter("vf", 8150.0, "m/s", "Exit speed target (ignored when free_exit_velocity)")
-        self.parameter("gammaf", 0.0144, "rad", "Exit flight-path angle target")
-        self.parameter("K_ball", 2.92e-4, "1/m", "Ballistic parameter K of eq. (2.8) used by the solve")
+        self.exit_targets_and_k()
         self.integer_parameter("free_exit_velocity", 0,
-                               "1: exit speed free, lambda_v(tf) = 0 (eq. 4.24); 0: v(tf) = vf")
+                               "1: exit speed free, lambda_v(tf) = 0 (eq. 4.24), vf ignored; 0: v(tf) = vf")
         out = self.solution_output
         out("u", "m/s2", "Lift acceleration command", self.current_command)
         out("solve_time", "s", "Wall-clock time of the 2PBVP solve", lambda: self.solution().solve_time)

@@ -16,10 +16,7 @@ class PredictiveGuidance(guidance_slave.EntryLatchedGuidance):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("hf", 90e3, "m", "Exit altitude target")
-        self.parameter("vf", 8150.0, "m/s", "Exit speed target")
-        self.parameter("gammaf", 0.0144, "rad", "Exit flight-path angle target")
-        self.parameter("K_ball", 2.92e-4, "1/m", "Ballistic parameter K of eq. (2.8) used by the prediction")
+        self.exit_targets_and_k()
         out = self.solution_output
         out("u", "m/s2", "Lift acceleration command", self.current_command)
         out("a", "m/s2", "Intercept a of u = a + b t", lambda: self.solution().a)
