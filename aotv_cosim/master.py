@@ -49,6 +49,7 @@ class Outcome:
     steps: int = 0
     wall_time: float = 0.0
     init_time: float = 0.0
+    loop_time: float = 0.0
     fmus: dict = field(default_factory=dict)
 
 
@@ -61,6 +62,28 @@ def signals_to_read(scenario):
     return list(dict.fromkeys(wanted))
 
 
+class _Inputs:
+    """Inputs of one component set by one fmi2SetReal call: value references, values, sources.
+
+    Inputs are sorted by the position of their sources in the master's output buffer; when those
+    positions are consecutive the value array is a view into the buffer itself (no copy per step),
+    otherwise `pairs` lists (value slot, buffer index) copies made before each call.
+    """
+
+    def __init__(self, inst, names, sources, values, alias=True):
+        ranked = sorted(zip(sources, names))
+        self.sources = [s for s, _ in ranked]
+        self.n = len(ranked)
+        self.vrs = (ctypes.c_uint * self.n)(*[inst.info.variables[name].vr for _, name in ranked])
+        first = self.sources[0] if ranked else 0
+        if alias and self.sources == list(range(first, first + self.n)):
+            self.vals = (ctypes.c_double * self.n).from_buffer(values, first * 8)
+            self.pairs = ()
+        else:
+            self.vals = (ctypes.c_double * max(self.n, 1))()
+            self.pairs = tuple(enumerate(self.sources))
+
+
 class _Plan:
     """Arrays and index maps of one component, built once before stepping."""
 
@@ -70,12 +93,6 @@ class _Plan:
         self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
         self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
         self.offset = offset
-
-    def inputs(self, names, sources):
-        """(vr array, value array, [(input slot, buffer index)]) for the given inputs."""
-        vrs = (ctypes.c_uint * len(names))(*[self.inst.info.variables[n].vr for n in names])
-        vals = (ctypes.c_double * len(names))()
-        return vrs, vals, list(enumerate(sources))
 
 
 class Master:
@@ -129,13 +146,17 @@ class Master:
         system = s.system
         order = system.gauss_seidel_order()
         position = {name: k for k, name in enumerate(order)}
-        by_comp = {name: [sig.split(".", 1)[1] for sig in self.signals if sig.split(".", 1)[0] == name]
-                   for name in order}
-        # Put outputs that feed through from delayed inputs last, so they can be re-read as a tail.
         sources = system.source_of()
+        # Connected outputs first, in connection order, so that the inputs a component takes
+        # from one source sit side by side in the buffer and are passed without a copy.
+        connected = list(dict.fromkeys(f"{c.source}.{c.output}" for c in system.connections))
+        signals = connected + [sig for sig in self.signals if sig not in connected]
+        by_comp = {name: [sig.split(".", 1)[1] for sig in signals if sig.split(".", 1)[0] == name]
+                   for name in order}
         delayed = {name: [inp for (tgt, inp), (src, _) in sources.items() if tgt == name and
                           (s.algorithm == "jacobi" or position[src] >= position[name])]
                    for name in order}
+        # Outputs that feed through from delayed inputs go last, to be re-read as a tail.
         tails = {}
         for name in order:
             ft = system.components[name].fmu.feedthrough
@@ -152,13 +173,14 @@ class Master:
                 self.index[f"{name}.{out}"] = offset + k
             offset += plan.n_out
             plans.append(plan)
+        extrapolate = s.inputs == "extrapolated"
         for plan in plans:
             name = plan.inst.name
-            fresh = [inp for (tgt, inp), (src, _) in sources.items()
-                     if tgt == name and inp not in delayed[name]]
-            plan.fresh = plan.inputs(fresh, [self.index[".".join(sources[(name, i)])] for i in fresh])
-            plan.delayed = plan.inputs(delayed[name],
-                                       [self.index[".".join(sources[(name, i)])] for i in delayed[name]])
+            fresh = [inp for (tgt, inp) in sources if tgt == name and inp not in delayed[name]]
+            source_index = lambda inputs: [self.index[".".join(sources[(name, i)])] for i in inputs]
+            plan.fresh = _Inputs(plan.inst, fresh, source_index(fresh), self.values)
+            plan.delayed = _Inputs(plan.inst, delayed[name], source_index(delayed[name]), self.values,
+                                   alias=not extrapolate)
             n_tail = tails[name]
             first = plan.n_out - n_tail
             plan.tail = (n_tail, (ctypes.c_uint * n_tail)(*plan.out_vrs[first:]),
@@ -175,11 +197,11 @@ class Master:
     def _set_inputs(self, which, t):
         values = self.values
         for p in self.plans:
-            vrs, vals, pairs = getattr(p, which)
-            if pairs:
-                for i, j in pairs:
-                    vals[i] = values[j]
-                if p.inst.raw_set_real(p.inst.component, vrs, len(pairs), vals) > 1:
+            inputs = getattr(p, which)
+            if inputs.n:
+                for i, j in inputs.pairs:
+                    inputs.vals[i] = values[j]
+                if p.inst.raw_set_real(p.inst.component, inputs.vrs, inputs.n, inputs.vals) > 1:
                     raise p.inst.failure("fmi2SetReal", t)
 
     def _read_tails(self, t):
@@ -205,6 +227,7 @@ class Master:
             outcome.init_time = clock.perf_counter() - wall0
             rows.add(s.start, force=True)
             self._loop(rows, outcome)
+            outcome.loop_time = clock.perf_counter() - wall0 - outcome.init_time
         except SimulationError as exc:
             outcome.status, outcome.error = "failed", str(exc)
             outcome.stop_reason = f"failure in {getattr(exc, 'component', '?')}"
@@ -226,45 +249,97 @@ class Master:
             outcome.wall_time = clock.perf_counter() - wall0
         return outcome
 
+    def _finisher(self):
+        """The end-of-sweep work, `finish(t_new, h, h_next)`: delayed inputs, then the tails.
+
+        With held inputs (default) each delayed input gets its source's value at t_new. With
+        extrapolated inputs it gets the mean over the coming step of the line through the source's
+        last two values, v + (h_next / 2) (v - v_prev) / h, which makes the coupling error second
+        order in the step for components that hold their inputs over a step; outputs that feed
+        through from those inputs are read before, with the exact values set.
+        """
+        values, array = self.values, self.array
+        delayed = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
+                    p.delayed.pairs, p.delayed.n) for p in self.plans if p.delayed.n]
+        tails = [(p.inst, p.inst.component, p.inst.raw_get_real) + p.tail
+                 for p in self.plans if p.tail[0]]
+
+        def set_delayed(t):
+            for inst, c, set_, vrs, vals, pairs, n in delayed:
+                for i, j in pairs:
+                    vals[i] = values[j]
+                if set_(c, vrs, n, vals) > 1:
+                    raise inst.failure("fmi2SetReal", t)
+
+        def read_tails(t):
+            for inst, c, get, n, vrs, vals in tails:
+                if get(c, vrs, n, vals) > 1:
+                    raise inst.failure("fmi2GetReal", t)
+
+        if self.scenario.inputs != "extrapolated":
+            def finish(t, h, h_next):
+                set_delayed(t)
+                read_tails(t)
+            return finish
+
+        lines = [(inst, c, set_, vrs, vals, np.frombuffer(vals, dtype=np.float64)[:n],
+                  np.array([j for _, j in pairs], dtype=np.intp))
+                 for inst, c, set_, vrs, vals, pairs, n in delayed]
+        last = array.copy()
+
+        def finish_extrapolated(t, h, h_next):
+            if tails:
+                set_delayed(t)
+                read_tails(t)
+            c_slope = 0.5 * h_next / h
+            for inst, c, set_, vrs, vals, view, src in lines:
+                now = array[src]
+                view[:] = now + c_slope * (now - last[src])
+                if set_(c, vrs, len(src), vals) > 1:
+                    raise inst.failure("fmi2SetReal", t)
+            last[:] = array
+        return finish_extrapolated
+
     def _loop(self, rows, outcome):
         s = self.scenario
-        plans, values, array = self.plans, self.values, self.array
+        values, array = self.values, self.array
         start, h, stop = s.start, s.step, s.stop
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
-        jacobi = s.algorithm == "jacobi"
         conditions = [(self.index[c.signal], c.threshold, c.direction, c) for c in s.stop_conditions]
         previous = array.copy()
-        have_tails = any(p.tail[0] for p in plans)
-        steppers = [(p, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real, p.inst.raw_set_real,
-                     p.out_vrs, p.out_vals, p.n_out) + p.fresh for p in plans]
+        finish = self._finisher()
+        steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
+                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
+                     p.fresh.pairs, p.fresh.n) for p in self.plans]
+        jacobi = s.algorithm == "jacobi"
+        add = rows.add
         report_every = max(1, n_steps // 200)
         for k in range(n_steps):
             t = start + k * h
-            step = min(h, stop - t) if k == n_steps - 1 else h
+            last = k == n_steps - 1
+            step = stop - t if last else h
+            t_new = stop if last else start + (k + 1) * h
             if jacobi:
-                for p, c, do_step, get, _set, ovrs, ovals, n_out, *_ in steppers:
+                for inst, c, do_step, get, set_, ovrs, ovals, n_out, *_ in steppers:
                     status = do_step(c, t, step, 1)
                     if status > 1:
-                        raise p.inst.failure("fmi2DoStep", t, status)
-                for p, c, _do, get, _set, ovrs, ovals, n_out, *_ in steppers:
+                        raise inst.failure("fmi2DoStep", t, status)
+                for inst, c, _do, get, set_, ovrs, ovals, n_out, *_ in steppers:
                     if n_out and get(c, ovrs, n_out, ovals) > 1:
-                        raise p.inst.failure("fmi2GetReal", t + step)
+                        raise inst.failure("fmi2GetReal", t_new)
             else:
-                for p, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, fpairs in steppers:
-                    if fpairs:
-                        for i, j in fpairs:
+                for inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf in steppers:
+                    if nf:
+                        for i, j in pairs:
                             fvals[i] = values[j]
-                        if set_(c, fvrs, len(fpairs), fvals) > 1:
-                            raise p.inst.failure("fmi2SetReal", t)
+                        if set_(c, fvrs, nf, fvals) > 1:
+                            raise inst.failure("fmi2SetReal", t)
                     status = do_step(c, t, step, 1)
                     if status > 1:
-                        raise p.inst.failure("fmi2DoStep", t, status)
+                        raise inst.failure("fmi2DoStep", t, status)
                     if n_out and get(c, ovrs, n_out, ovals) > 1:
-                        raise p.inst.failure("fmi2GetReal", t + step)
-            t_new = start + (k + 1) * h if k < n_steps - 1 else stop
-            self._set_inputs("delayed", t_new)
-            if have_tails:
-                self._read_tails(t_new)
+                        raise inst.failure("fmi2GetReal", t_new)
+            finish(t_new, step, h if k < n_steps - 2 else stop - t_new)
             outcome.steps = k + 1
             for idx, threshold, direction, cond in conditions:
                 before, now = previous[idx], values[idx]
@@ -275,11 +350,11 @@ class Master:
                     outcome.event = rows.event(cond, t, t_new, fraction, previous)
                     outcome.stop_reason = (f"{cond.signal} crossed {threshold:g} "
                                            f"{'up' if up else 'down'} at t = {outcome.event['time']:.6g} s")
-                    rows.add(t_new, force=True)
+                    add(t_new, force=True)
                     return
             if conditions:
                 previous[:] = array
-            rows.add(t_new, force=k == n_steps - 1)
+            add(t_new, force=last)
             if self.progress and k % report_every == 0:
                 self.progress(t_new)
 

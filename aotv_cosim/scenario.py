@@ -49,6 +49,8 @@ class Scenario:
     expectations: list = field(default_factory=list)
     plots: list = field(default_factory=list)
     description: str = ""
+    inputs: str = "held"
+    """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
 
 
 def parse_sets(pairs, origin="--set") -> dict:
@@ -80,7 +82,8 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
         raise
     scenario = Scenario(
         path=path, system=system, start=float(doc.get("start", 0.0)), stop=float(doc["stop"]),
-        step=float(step if step is not None else doc["step"]),
+        step=float(step if step is not None else _step_options(doc)["size"]),
+        inputs=_step_options(doc).get("inputs", "held"),
         algorithm=doc.get("algorithm", "gauss-seidel"),
         stop_conditions=[StopCondition(c["signal"], float(c["crosses"]), c.get("direction", "either"))
                          for c in doc.get("stop_conditions", [])],
@@ -95,6 +98,12 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
     _check_times(scenario)
     _check_signals(scenario, doc)
     return scenario
+
+
+def _step_options(doc) -> dict:
+    """The scenario's "step" as an object: a bare number is {"size": number}."""
+    step = doc["step"]
+    return step if isinstance(step, dict) else {"size": step}
 
 
 def _check_times(s: Scenario):
