@@ -194,3 +194,30 @@ def build_fmus(out):
             click.echo(f"{name}: {path}")
 
     _guard(body)
+
+
+@main.command()
+@click.argument("scenario", type=click.Path(dir_okay=False))
+@click.option("--runs", type=click.IntRange(min=1), required=True, help="Number of runs.")
+@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Local worker processes.")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
+@click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>-mc].")
+@click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
+    """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
+    from aotv_cosim.montecarlo import run_campaign
+    from aotv_cosim.scenario import parse_sets
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
+        summary = run_campaign(scenario, runs, out_dir, workers=workers, seed=seed, scheduler=scheduler,
+                               resume=resume, sets=parse_sets(sets) or None)
+        rate = summary["runs_per_s"]
+        click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
+                   + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
+        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics in summary.json")
+
+    _guard(body)

@@ -25,9 +25,17 @@ from aotv_cosim.errors import SimulationError
 STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
 
 
+_DIGESTS = {}
+"""(path, size, mtime) -> content digest of the FMU files seen by this process."""
+
+
 def extracted(fmu_path: Path) -> Path:
     """Folder holding the extracted FMU, shared between runs and keyed by the file's content."""
-    digest = hashlib.sha256(Path(fmu_path).read_bytes()).hexdigest()[:20]
+    stat = Path(fmu_path).stat()
+    key = (str(fmu_path), stat.st_size, stat.st_mtime_ns)
+    if key not in _DIGESTS:
+        _DIGESTS[key] = hashlib.sha256(Path(fmu_path).read_bytes()).hexdigest()[:20]
+    digest = _DIGESTS[key]
     target = fmu_build.cache_dir() / "extracted" / digest
     if not target.is_dir():
         target.parent.mkdir(parents=True, exist_ok=True)
@@ -105,6 +113,14 @@ class FmuInstance:
             function()
         except Exception as exc:
             raise self.failure(call, self.time) from exc
+
+    def reset(self, start_time: float, stop_time: float):
+        """fmi2Reset, then set up the experiment again: the instance is as just instantiated."""
+        self.time = start_time
+        self.messages.clear()
+        self._call("fmi2Reset", self.slave.reset)
+        self._call("fmi2SetupExperiment",
+                   lambda: self.slave.setupExperiment(startTime=start_time, stopTime=stop_time))
 
     def set_values(self, values: dict) -> None:
         """Set parameter or start values by name (before or during initialization)."""

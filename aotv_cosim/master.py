@@ -98,22 +98,37 @@ class _Plan:
 class Master:
     """Runs one Scenario; `record(times, rows)` receives chunks of recorded rows as they come."""
 
-    def __init__(self, scenario, record, progress=None):
+    def __init__(self, scenario, record, progress=None, overrides=None, pool=None):
+        """overrides: {'comp.var': value} set after the wiring's values (a Monte Carlo draw);
+        pool: a dict kept by the caller between runs, {name: FmuInstance}: its instances are
+        reset (fmi2Reset) instead of instantiated again, and left open at the end of the run."""
         self.scenario = scenario
         self.record = record
         self.progress = progress
+        self.overrides = overrides or {}
+        self.pool = pool
         self.signals = signals_to_read(scenario)
         self.instances = {}
 
     # ---- set-up -----------------------------------------------------------------------------
     def _instantiate(self, outcome):
         s = self.scenario
+        kept = self.pool if self.pool is not None else {}
         for name, comp in s.system.components.items():
-            self.instances[name] = FmuInstance(name, comp.fmu, s.start, s.stop)
+            inst = kept.get(name)
+            if inst is not None and inst.info is comp.fmu and not inst.broken:
+                inst.reset(s.start, s.stop)
+            else:
+                inst = FmuInstance(name, comp.fmu, s.start, s.stop)
+            self.instances[name] = kept[name] = inst
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
                                   "guid": comp.fmu.guid}
+        drawn = {}
+        for signal, value in self.overrides.items():
+            comp, var = signal.split(".", 1)
+            drawn.setdefault(comp, {})[var] = value
         for name, comp in s.system.components.items():
-            self.instances[name].set_values(comp.parameters)
+            self.instances[name].set_values({**comp.parameters, **drawn.get(name, {})})
 
     def _initialize(self):
         """Enter initialization, propagate connected values in dependency order, exit."""
@@ -244,8 +259,11 @@ class Master:
                 outcome.stop_reason = "non-finite value"
                 outcome.error_detail = {"component": exc.component, "variable": exc.variable,
                                         "time": exc.time, "message": exc.cause}
-            for inst in self.instances.values():
-                inst.close()
+            for name, inst in self.instances.items():
+                if self.pool is None or inst.broken:
+                    inst.close()
+                    if self.pool is not None:
+                        del self.pool[name]
             outcome.wall_time = clock.perf_counter() - wall0
         return outcome
 

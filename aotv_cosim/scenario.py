@@ -35,6 +35,32 @@ class Expectation:
         return max(bounds)
 
 
+@dataclass(frozen=True)
+class Dispersion:
+    """A Monte Carlo distribution of one Real parameter `signal` ('component.variable').
+
+    kind: 'uniform' (low, high), 'normal' (mean, std) or 'truncated_normal' (mean, std, low, high).
+    """
+
+    signal: str
+    kind: str
+    mean: float = None
+    std: float = None
+    low: float = None
+    high: float = None
+
+    def sample(self, rng) -> float:
+        """One draw from the numpy Generator `rng`."""
+        if self.kind == "uniform":
+            return float(rng.uniform(self.low, self.high))
+        if self.kind == "normal":
+            return float(rng.normal(self.mean, self.std))
+        from scipy.stats import truncnorm
+
+        a, b = (self.low - self.mean) / self.std, (self.high - self.mean) / self.std
+        return float(truncnorm.rvs(a, b, loc=self.mean, scale=self.std, random_state=rng))
+
+
 @dataclass
 class Scenario:
     path: Path
@@ -50,6 +76,8 @@ class Scenario:
     plots: list = field(default_factory=list)
     description: str = ""
     inputs: str = "held"
+    dispersions: list = field(default_factory=list)
+    scatter: list = field(default_factory=list)
     """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
 
 
@@ -94,6 +122,9 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
                       for e in doc.get("expectations", [])],
         plots=list(doc.get("plots", [])),
         description=doc.get("description", ""),
+        dispersions=[Dispersion(signal, d["distribution"], d.get("mean"), d.get("std"), d.get("low"),
+                                d.get("high")) for signal, d in doc.get("dispersions", {}).items()],
+        scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
     )
     _check_times(scenario)
     _check_signals(scenario, doc)
@@ -140,6 +171,18 @@ def _check_signals(s: Scenario, doc):
         if e.at == "event" and not s.stop_conditions:
             problems.append(InputError("'event' needs a stop condition", file=s.path,
                                        entry=f"expectations[{k}].at", fix="add stop_conditions or use 'end'"))
+    for d in s.dispersions:
+        comp, _, var = d.signal.partition(".")
+        variable = s.system.components[comp].fmu.variables.get(var) if comp in s.system.components else None
+        if variable is None or variable.causality != "parameter" or variable.type != "Real":
+            problems.append(InputError(f"{d.signal} is not a Real parameter of the system", file=s.path,
+                                       entry=f"dispersions.{d.signal}",
+                                       fix="disperse a Real parameter (initial states are parameters)"))
+        elif d.low is not None and not d.low < d.high:
+            problems.append(InputError(f"low ({d.low}) must be below high ({d.high})", file=s.path,
+                                       entry=f"dispersions.{d.signal}", fix="swap or widen the bounds"))
+    for k, signal in enumerate(s.scatter):
+        check(signal, f"montecarlo.scatter[{k}]")
     for k, p in enumerate(s.plots):
         for signal in p["signals"] + ([p["x"]] if p.get("x", "time") != "time" else []):
             check(signal, f"plots[{k}]")

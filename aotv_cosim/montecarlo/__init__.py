@@ -1,0 +1,16 @@
+"""Monte Carlo campaigns: dispersed runs of one scenario on local processes or a Dask cluster.
+
+- `draws`: the dispersed values of run k come from its own seed, SeedSequence(campaign seed,
+  spawn_key=(k,)) (numpy's `spawn` children), so they do not depend on workers or backend.
+- `worker`: a worker instantiates the scenario's FMUs once and resets them between runs; a run
+  becomes one row (dispersed values, final values, extrema, exit values, status, error).
+- `backends`: a local process pool (default) or Dask distributed; a batch whose worker crashes
+  is retried run by run, and a run that still crashes is recorded with its error.
+- `store`: rows appended to rows.csv as they finish; resume skips finished runs; the final
+  rows.csv and rows.parquet are sorted by run, identical to an uninterrupted campaign's.
+- `report`: percentiles (summary.json) and plots (histograms, exit-state scatter, 3-sigma ellipse).
+"""
+
+from aotv_cosim.montecarlo.campaign import run_campaign
+
+__all__ = ["run_campaign"]

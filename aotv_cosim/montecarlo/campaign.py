@@ -1,0 +1,77 @@
+"""A campaign from start to report: draws, batches, a backend, rows on disk, statistics."""
+
+import time
+from pathlib import Path
+
+from aotv_cosim.errors import InputError
+from aotv_cosim.montecarlo import backends, report
+from aotv_cosim.montecarlo.draws import draw
+from aotv_cosim.montecarlo.store import RowStore
+from aotv_cosim.montecarlo.worker import columns
+from aotv_cosim.results import write_json_atomically
+from aotv_cosim.scenario import load_scenario
+
+
+def batches_of(items, workers):
+    """Batches of consecutive runs: about 8 per worker, so a batch amortizes the task overhead
+    and the last batches still spread over the workers."""
+    size = max(1, min(25, len(items) // (8 * max(1, workers)) or 1))
+    return [items[k:k + size] for k in range(0, len(items), size)]
+
+
+def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None, resume=False,
+                 sets=None, progress=True, make_plots=True) -> dict:
+    """Run `runs` dispersed runs of the scenario; returns the campaign summary (summary.json).
+
+    scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
+    (or a distributed.Client). The rows do not depend on either choice.
+    """
+    scenario_path = Path(scenario_path).resolve()
+    scenario = load_scenario(scenario_path, sets)
+    if not scenario.dispersions:
+        raise InputError("the scenario declares no dispersions", file=scenario_path, entry="dispersions",
+                         fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
+    names = columns(scenario)
+    manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
+                "dispersions": [d.__dict__ for d in scenario.dispersions]}
+    out = Path(out_dir)
+    store = RowStore(out, names, manifest, resume)
+    todo = [k for k in range(runs) if k not in store.done()]
+    work = [(k, draw(scenario.dispersions, seed, k)) for k in todo]
+    n_workers = workers if scheduler is None else max(1, workers)
+    chunks = batches_of(work, n_workers)
+    source = (backends.local(str(scenario_path), sets, chunks, workers, names) if scheduler is None
+              else backends.dask(str(scenario_path), sets, chunks, scheduler, names))
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=runs, initial=runs - len(todo), unit="run", desc="runs", smoothing=0.1)
+    t0 = time.perf_counter()
+    try:
+        for rows in source:
+            for row in rows:
+                store.add(row)
+            if bar is not None:
+                bar.update(len(rows))
+    finally:
+        if bar is not None:
+            bar.close()
+    wall = time.perf_counter() - t0
+    rows = store.close()
+    statuses = {}
+    for r in rows:
+        statuses[r["status"]] = statuses.get(r["status"], 0) + 1
+    summary = {
+        "scenario": str(scenario_path), "runs": runs, "seed": seed,
+        "backend": "local" if scheduler is None else "dask", "workers": workers,
+        "runs_this_session": len(todo), "wall_time_s": wall,
+        "runs_per_s": len(todo) / wall if wall > 0 else None,
+        "statuses": statuses,
+        "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
+                   for r in rows if r["status"] != "completed"][:50],
+        "statistics": report.statistics(rows, names),
+        "plots": report.plots(out, rows, scenario) if make_plots else [],
+    }
+    write_json_atomically(out / "summary.json", summary)
+    return summary

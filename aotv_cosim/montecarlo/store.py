@@ -1,0 +1,114 @@
+"""Campaign rows on disk: rows.csv appended as runs finish, then sorted rows.csv and rows.parquet.
+
+Numbers are written with repr (shortest exact form), so a row read back is the row written and
+a resumed campaign ends with the same files as an uninterrupted one. campaign.json records what
+the rows belong to (scenario, seed, runs, dispersions); --resume refuses a different campaign.
+"""
+
+import csv
+import json
+import math
+import os
+from pathlib import Path
+
+from aotv_cosim.errors import InputError
+
+TEXT = ("status", "error")
+INTEGER = ("run", "steps")
+
+
+def _cell(name, value):
+    if name in TEXT:
+        return value
+    if name in INTEGER:
+        return "" if value is None or (isinstance(value, float) and math.isnan(value)) else str(int(value))
+    return repr(float(value))
+
+
+def _parse(name, text):
+    if name in TEXT:
+        return text
+    if name in INTEGER:
+        return int(text) if text else math.nan
+    return float(text)
+
+
+class RowStore:
+    """rows.csv of one campaign folder, opened for appending."""
+
+    def __init__(self, out_dir: Path, columns, manifest: dict, resume: bool):
+        self.out = Path(out_dir)
+        self.out.mkdir(parents=True, exist_ok=True)
+        self.columns = list(columns)
+        self.csv = self.out / "rows.csv"
+        self.rows = {}
+        manifest_path = self.out / "campaign.json"
+        if resume and manifest_path.is_file():
+            previous = json.loads(manifest_path.read_text())
+            if previous != manifest:
+                raise InputError("the folder holds a different campaign", file=manifest_path,
+                                 fix="resume with the same scenario, --runs and --seed, or use a new --out")
+            self.rows = self._read()
+        elif any(self.out.iterdir()) and not resume and self.csv.exists():
+            raise InputError("campaign rows already exist", file=self.csv,
+                             fix="pass --resume to continue it, or choose another --out")
+        manifest_path.write_text(json.dumps(manifest, indent=2) + "\n")
+        self._rewrite(self.rows.values(), self.csv)
+        self.file = open(self.csv, "a", newline="")
+        self.writer = csv.writer(self.file, lineterminator="\n")
+
+    def _read(self) -> dict:
+        """Complete rows of rows.csv by run (a line cut short by a crash is dropped)."""
+        if not self.csv.is_file():
+            return {}
+        rows = {}
+        with open(self.csv, newline="") as f:
+            text = f.read()
+        lines = list(csv.reader(text.splitlines(keepends=True)))
+        if lines and lines[0] != self.columns:
+            raise InputError("rows.csv has other columns than this scenario gives", file=self.csv,
+                             fix="resume with the same scenario, or use a new --out")
+        complete = lines[1:] if text.endswith("\n") else lines[1:-1]
+        for cells in complete:
+            if len(cells) == len(self.columns):
+                row = {n: _parse(n, c) for n, c in zip(self.columns, cells)}
+                rows[row["run"]] = row
+        return rows
+
+    def _rewrite(self, rows, path):
+        tmp = path.with_name(path.name + ".part")
+        with open(tmp, "w", newline="") as f:
+            writer = csv.writer(f, lineterminator="\n")
+            writer.writerow(self.columns)
+            for row in rows:
+                writer.writerow([_cell(n, row[n]) for n in self.columns])
+        os.replace(tmp, path)
+
+    def done(self) -> set:
+        return set(self.rows)
+
+    def add(self, row: dict):
+        """Append one finished run (flushed at once: an interruption keeps it)."""
+        self.rows[row["run"]] = row
+        self.writer.writerow([_cell(n, row[n]) for n in self.columns])
+        self.file.flush()
+
+    def close(self) -> list:
+        """Rewrite rows.csv sorted by run, write rows.parquet; returns the sorted rows."""
+        self.file.close()
+        rows = [self.rows[k] for k in sorted(self.rows)]
+        self._rewrite(rows, self.csv)
+        write_parquet(rows, self.columns, self.out / "rows.parquet")
+        return rows
+
+
+def write_parquet(rows, columns, path: Path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    types = {n: pa.string() if n in TEXT else pa.int64() if n in INTEGER else pa.float64() for n in columns}
+    data = {n: [(None if n in INTEGER and isinstance(r[n], float) else r[n]) for r in rows] for n in columns}
+    table = pa.table({n: pa.array(data[n], type=types[n]) for n in columns})
+    tmp = path.with_name(path.name + ".part")
+    pq.write_table(table, tmp)
+    os.replace(tmp, path)

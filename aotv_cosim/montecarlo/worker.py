@@ -1,0 +1,98 @@
+"""One worker's side of a campaign: the scenario loaded once, FMUs reused, runs turned into rows.
+
+A worker process keeps one `Runner` per (scenario file, --set values) and per thread, so the
+FMUs are instantiated once per worker and only reset (fmi2Reset) between runs. A row holds no
+timing, so the same run gives the same row on any worker and backend.
+"""
+
+import math
+import threading
+
+import numpy as np
+
+from aotv_cosim.master import Master
+from aotv_cosim.runner import recorded_columns
+from aotv_cosim.scenario import load_scenario
+
+_LOCAL = threading.local()
+
+
+def columns(scenario) -> list:
+    """Row columns: run, status, error, dispersed values, end, final/min/max and exit values."""
+    signals = recorded_columns(scenario)
+    names = ["run", "status", "error"] + [f"dispersed.{d.signal}" for d in scenario.dispersions]
+    names += ["end_time", "steps"] + [f"final.{s}" for s in signals]
+    names += [f"min.{s}" for s in signals] + [f"max.{s}" for s in signals]
+    if scenario.stop_conditions:
+        names += ["exit.time"] + [f"exit.{s}" for s in signals]
+    return names
+
+
+class _Extrema:
+    """The master's `record` callback keeping only the last row and running min/max of `signals`."""
+
+    def __init__(self, master, signals):
+        self.master, self.signals = master, signals
+        self.select = None
+        self.last = self.low = self.high = None
+        self.time = math.nan
+
+    def __call__(self, times, rows):
+        if self.select is None:  # the master's buffer layout is known once it runs
+            self.select = [self.master.index[s] for s in self.signals]
+        rows = rows[:, self.select]
+        low, high = np.nanmin(rows, axis=0), np.nanmax(rows, axis=0)
+        self.low = low if self.low is None else np.fmin(self.low, low)
+        self.high = high if self.high is None else np.fmax(self.high, high)
+        self.last, self.time = rows[-1], float(times[-1])
+
+
+class Runner:
+    """Runs draws of one scenario on FMUs kept between runs."""
+
+    def __init__(self, scenario_path, sets=None):
+        self.scenario = load_scenario(scenario_path, sets)
+        self.signals = recorded_columns(self.scenario)
+        self.columns = columns(self.scenario)
+        self.pool = {}
+
+    def run(self, run: int, values: dict) -> dict:
+        """The row of one run with the dispersed `values` ({'comp.var': value})."""
+        row = dict.fromkeys(self.columns, math.nan)
+        row.update(run=run, status="error", error="")
+        row.update({f"dispersed.{k}": v for k, v in values.items()})
+        try:
+            master = Master(self.scenario, None, overrides=values, pool=self.pool)
+            master.record = extrema = _Extrema(master, self.signals)
+            outcome = master.run()
+        except Exception as exc:  # a bad draw (e.g. a value the FMU rejects): record it, go on
+            row["error"] = f"{type(exc).__name__}: {exc}"
+            return row
+        row.update(status=outcome.status, error=outcome.error or "", steps=outcome.steps,
+                   end_time=extrema.time)
+        if extrema.last is not None:
+            for k, s in enumerate(self.signals):
+                row[f"final.{s}"] = float(extrema.last[k])
+                row[f"min.{s}"] = float(extrema.low[k])
+                row[f"max.{s}"] = float(extrema.high[k])
+        if outcome.event:
+            row["exit.time"] = float(outcome.event["time"])
+            row.update({f"exit.{s}": float(outcome.event["values"][s]) for s in self.signals})
+        return row
+
+
+def runner(scenario_path, sets=None) -> Runner:
+    """This thread's Runner for the scenario (made on first use)."""
+    key = (str(scenario_path), tuple(sorted((sets or {}).items())))
+    cache = getattr(_LOCAL, "runners", None)
+    if cache is None:
+        cache = _LOCAL.runners = {}
+    if key not in cache:
+        cache[key] = Runner(scenario_path, sets)
+    return cache[key]
+
+
+def run_batch(scenario_path, sets, batch) -> list:
+    """Rows of a batch [(run, values), ...] (the task sent to a worker)."""
+    r = runner(scenario_path, sets)
+    return [r.run(run, values) for run, values in batch]
