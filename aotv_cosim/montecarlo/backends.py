@@ -24,25 +24,39 @@ def _retry_plan(batch):
     return [[item] for item in batch] if len(batch) > 1 else None
 
 
+def _pool(workers):
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=context)
+
+
 def local(scenario_path, sets, batches, workers, columns):
-    """Yield row lists from a pool of `workers` processes (restarted after a crash)."""
-    queue = list(batches)
-    context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods()
-                                          else "spawn")
+    """Yield row lists from a pool of `workers` processes.
+
+    A crash breaks the whole pool and fails every batch in flight, so a failed batch is retried
+    on a new pool as single runs, and a single run that fails again is run alone in a pool of
+    its own: only a run that then fails is the one that crashes.
+    """
+    queue = [(b, False) for b in batches]
     while queue:
-        with cf.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-            futures = {pool.submit(run_batch, scenario_path, sets, b): b for b in queue}
-            queue = []
-            for future in cf.as_completed(futures):
-                batch = futures[future]
-                try:
-                    yield future.result()
-                except Exception as exc:  # BrokenProcessPool or an error outside a run
-                    split = _retry_plan(batch)
-                    if split is None:
-                        yield [crashed_row(columns, *batch[0], exc)]
-                    else:
-                        queue += split
+        shared = [b for b, alone in queue if not alone]
+        isolated = [[b] for b, alone in queue if alone]
+        queue = []
+        for group, size in [(shared, workers)] + [(g, 1) for g in isolated]:
+            if not group:
+                continue
+            with _pool(size) as pool:
+                futures = {pool.submit(run_batch, scenario_path, sets, b): b for b in group}
+                for future in cf.as_completed(futures):
+                    batch = futures[future]
+                    try:
+                        yield future.result()
+                    except Exception as exc:  # BrokenProcessPool or an error outside a run
+                        if size == 1:
+                            yield [crashed_row(columns, *batch[0], exc)]
+                        else:
+                            split = _retry_plan(batch)
+                            queue += [(b, False) for b in split] if split else [(batch, True)]
 
 
 def dask(scenario_path, sets, batches, address, columns):
