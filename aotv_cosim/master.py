@@ -240,7 +240,7 @@ class Master:
             self._set_inputs("delayed", s.start)
             self._read_tails(s.start)
             outcome.init_time = clock.perf_counter() - wall0
-            rows.add(s.start, force=True)
+            rows.add(s.start)
             self._loop(rows, outcome)
             outcome.loop_time = clock.perf_counter() - wall0 - outcome.init_time
         except SimulationError as exc:
@@ -267,48 +267,31 @@ class Master:
             outcome.wall_time = clock.perf_counter() - wall0
         return outcome
 
-    def _finisher(self):
-        """The end-of-sweep work, `finish(t_new, h, h_next)`: delayed inputs, then the tails.
+    def _end_of_sweep(self):
+        """(delayed, tails, extrapolate): what the loop does after the components have stepped.
 
-        With held inputs (default) each delayed input gets its source's value at t_new. With
-        extrapolated inputs it gets the mean over the coming step of the line through the source's
-        last two values, v + (h_next / 2) (v - v_prev) / h, which makes the coupling error second
-        order in the step for components that hold their inputs over a step; outputs that feed
-        through from those inputs are read before, with the exact values set.
+        `delayed` are the inputs set with their sources' values at the new communication point,
+        `tails` the outputs read again after that because they feed through from those inputs.
+        With held inputs (default) `extrapolate` is None. With extrapolated inputs it is
+        `extrapolate(t, h, h_next)`, which then sets each delayed input to the mean over the
+        coming step of the line through its source's last two values,
+        v + (h_next / 2) (v - v_prev) / h: the coupling error becomes second order in the step
+        for components that hold their inputs over a step. The tails are read before, with the
+        exact values set; without tails the exact values are not set at all.
         """
-        values, array = self.values, self.array
+        array = self.array
         delayed = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
                     p.delayed.pairs, p.delayed.n) for p in self.plans if p.delayed.n]
         tails = [(p.inst, p.inst.component, p.inst.raw_get_real) + p.tail
                  for p in self.plans if p.tail[0]]
-
-        def set_delayed(t):
-            for inst, c, set_, vrs, vals, pairs, n in delayed:
-                for i, j in pairs:
-                    vals[i] = values[j]
-                if set_(c, vrs, n, vals) > 1:
-                    raise inst.failure("fmi2SetReal", t)
-
-        def read_tails(t):
-            for inst, c, get, n, vrs, vals in tails:
-                if get(c, vrs, n, vals) > 1:
-                    raise inst.failure("fmi2GetReal", t)
-
         if self.scenario.inputs != "extrapolated":
-            def finish(t, h, h_next):
-                set_delayed(t)
-                read_tails(t)
-            return finish
-
+            return delayed, tails, None
         lines = [(inst, c, set_, vrs, vals, np.frombuffer(vals, dtype=np.float64)[:n],
                   np.array([j for _, j in pairs], dtype=np.intp))
                  for inst, c, set_, vrs, vals, pairs, n in delayed]
         last = array.copy()
 
-        def finish_extrapolated(t, h, h_next):
-            if tails:
-                set_delayed(t)
-                read_tails(t)
+        def extrapolate(t, h, h_next):
             c_slope = 0.5 * h_next / h
             for inst, c, set_, vrs, vals, view, src in lines:
                 now = array[src]
@@ -316,7 +299,7 @@ class Master:
                 if set_(c, vrs, len(src), vals) > 1:
                     raise inst.failure("fmi2SetReal", t)
             last[:] = array
-        return finish_extrapolated
+        return (delayed if tails else []), tails, extrapolate
 
     def _loop(self, rows, outcome):
         s = self.scenario
@@ -325,56 +308,75 @@ class Master:
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
         conditions = [(self.index[c.signal], c.threshold, c.direction, c) for c in s.stop_conditions]
         previous = array.copy()
-        finish = self._finisher()
+        delayed, tails, extrapolate = self._end_of_sweep()
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
                      p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
                      p.fresh.pairs, p.fresh.n) for p in self.plans]
         jacobi = s.algorithm == "jacobi"
-        add = rows.add
+        every = s.record_every
+        keep_time, keep_row = rows.times.append, rows.rows.append
+        progress = self.progress
         report_every = max(1, n_steps // 200)
-        for k in range(n_steps):
-            t = start + k * h
-            last = k == n_steps - 1
-            step = stop - t if last else h
-            t_new = stop if last else start + (k + 1) * h
-            if jacobi:
-                for inst, c, do_step, get, set_, ovrs, ovals, n_out, *_ in steppers:
-                    status = do_step(c, t, step, 1)
-                    if status > 1:
-                        raise inst.failure("fmi2DoStep", t, status)
-                for inst, c, _do, get, set_, ovrs, ovals, n_out, *_ in steppers:
-                    if n_out and get(c, ovrs, n_out, ovals) > 1:
+        done = 0
+        try:
+            for k in range(n_steps):
+                t = start + k * h
+                last = k == n_steps - 1
+                step = stop - t if last else h
+                t_new = stop if last else start + (k + 1) * h
+                if jacobi:
+                    for inst, c, do_step, get, set_, ovrs, ovals, n_out, *_ in steppers:
+                        status = do_step(c, t, step, 1)
+                        if status > 1:
+                            raise inst.failure("fmi2DoStep", t, status)
+                    for inst, c, _do, get, set_, ovrs, ovals, n_out, *_ in steppers:
+                        if n_out and get(c, ovrs, n_out, ovals) > 1:
+                            raise inst.failure("fmi2GetReal", t_new)
+                else:
+                    for inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf in steppers:
+                        if nf:
+                            for i, j in pairs:
+                                fvals[i] = values[j]
+                            if set_(c, fvrs, nf, fvals) > 1:
+                                raise inst.failure("fmi2SetReal", t)
+                        status = do_step(c, t, step, 1)
+                        if status > 1:
+                            raise inst.failure("fmi2DoStep", t, status)
+                        if n_out and get(c, ovrs, n_out, ovals) > 1:
+                            raise inst.failure("fmi2GetReal", t_new)
+                for inst, c, set_, vrs, vals, pairs, n in delayed:
+                    for i, j in pairs:
+                        vals[i] = values[j]
+                    if set_(c, vrs, n, vals) > 1:
+                        raise inst.failure("fmi2SetReal", t_new)
+                for inst, c, get, n, vrs, vals in tails:
+                    if get(c, vrs, n, vals) > 1:
                         raise inst.failure("fmi2GetReal", t_new)
-            else:
-                for inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf in steppers:
-                    if nf:
-                        for i, j in pairs:
-                            fvals[i] = values[j]
-                        if set_(c, fvrs, nf, fvals) > 1:
-                            raise inst.failure("fmi2SetReal", t)
-                    status = do_step(c, t, step, 1)
-                    if status > 1:
-                        raise inst.failure("fmi2DoStep", t, status)
-                    if n_out and get(c, ovrs, n_out, ovals) > 1:
-                        raise inst.failure("fmi2GetReal", t_new)
-            finish(t_new, step, h if k < n_steps - 2 else stop - t_new)
-            outcome.steps = k + 1
-            for idx, threshold, direction, cond in conditions:
-                before, now = previous[idx], values[idx]
-                up = before < threshold <= now
-                down = before > threshold >= now
-                if (up and direction != "down") or (down and direction != "up"):
-                    fraction = (threshold - before) / (now - before)
-                    outcome.event = rows.event(cond, t, t_new, fraction, previous)
-                    outcome.stop_reason = (f"{cond.signal} crossed {threshold:g} "
-                                           f"{'up' if up else 'down'} at t = {outcome.event['time']:.6g} s")
-                    add(t_new, force=True)
-                    return
-            if conditions:
-                previous[:] = array
-            add(t_new, force=last)
-            if self.progress and k % report_every == 0:
-                self.progress(t_new)
+                if extrapolate is not None:
+                    extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new)
+                done = k + 1
+                for idx, threshold, direction, cond in conditions:
+                    before, now = previous[idx], values[idx]
+                    up = before < threshold <= now
+                    down = before > threshold >= now
+                    if (up and direction != "down") or (down and direction != "up"):
+                        fraction = (threshold - before) / (now - before)
+                        outcome.event = rows.event(cond, t, t_new, fraction, previous)
+                        outcome.stop_reason = (f"{cond.signal} crossed {threshold:g} "
+                                               f"{'up' if up else 'down'} at t = {outcome.event['time']:.6g} s")
+                        rows.add(t_new)
+                        return
+                if conditions:
+                    previous[:] = array
+                if done % every == 0 or last:
+                    keep_time(t_new)
+                    keep_row(array.copy())
+                    if len(rows.rows) >= CHUNK:
+                        rows.flush()
+                if progress and k % report_every == 0:
+                    progress(t_new)
+        finally:
+            outcome.steps = done
 
 
 class Rows:
@@ -383,23 +385,21 @@ class Rows:
     def __init__(self, master, outcome):
         self.master = master
         self.outcome = outcome
-        self.every = master.scenario.record_every
-        self.count = 0
         self.times, self.rows = [], []
 
-    def add(self, t, force=False):
-        self.count += 1
-        if force or (self.count - 1) % self.every == 0:
-            self.times.append(t)
-            self.rows.append(self.master.array.copy())
-            if len(self.rows) >= CHUNK:
-                self.flush()
+    def add(self, t):
+        """Record the communication point t now (the loop itself records every n-th step)."""
+        self.times.append(t)
+        self.rows.append(self.master.array.copy())
+        if len(self.rows) >= CHUNK:
+            self.flush()
 
     def flush(self):
         if not self.rows:
             return
         times, rows = np.array(self.times), np.vstack(self.rows)
-        self.times, self.rows = [], []
+        self.times.clear()
+        self.rows.clear()
         bad = ~np.isfinite(rows)
         if bad.any():
             r, col = np.argwhere(bad)[0]

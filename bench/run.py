@@ -1,0 +1,223 @@
+"""Performance targets of the package, each measured and compared with its target.
+
+    python bench/run.py [--repeats 5] [--mc-runs 1000] [--eff-runs 200] [--skip libcosim,montecarlo]
+
+Medians of `--repeats` runs; ratios are taken against baselines run in the same process,
+interleaved with the measured runs. Definitions (docs/performance.md):
+
+1. Master overhead per communication step = the master's stepping wall time minus the time
+   spent inside the FMI calls it makes (fmi2DoStep, fmi2GetReal, fmi2SetReal, each timed in the
+   same run; the timer's own cost, calibrated on a no-op, is removed from both sides), divided
+   by the number of steps. Whatever the FMUs compute is excluded; everything the master does
+   per step (copies, bookkeeping, stop conditions, recording every signal) is included.
+2. Master wall per step against OSP libcosim's (libcosimpy) on the same FMUs, step and system.
+3. Nominal pass with the exit located: |error| of exit altitude and speed against the monolithic
+   SciPy reference and the wall time of the whole run (instantiation included).
+4. Monte Carlo: a 1000-run campaign on 2 local workers, parallel efficiency 1 -> 2 workers.
+5. Guidance compute: median solve time of the predictive law and of the MAE re-solve.
+"""
+
+import argparse
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
+
+from aotv_cosim.master import Master  # noqa: E402
+from aotv_cosim.reference import reference_run  # noqa: E402
+from aotv_cosim.scenario import load_scenario  # noqa: E402
+
+SCENARIOS = ROOT / "scenarios"
+NOMINAL = SCENARIOS / "aotv_time_linear_nominal.json"
+EXIT_ACCURATE = SCENARIOS / "aotv_time_linear_exit_accurate.json"
+CAMPAIGN = SCENARIOS / "montecarlo_time_linear_density.json"
+
+
+class _TimedMaster(Master):
+    """The master with every FMI call of the stepping loop timed (ns accumulated in `inside`)."""
+
+    def _build_plans(self):
+        super()._build_plans()
+        self.inside = [0, 0]
+        for inst in self.instances.values():
+            for name in ("raw_do_step", "raw_get_real", "raw_set_real"):
+                setattr(inst, name, _timed(getattr(inst, name), self.inside))
+
+
+def _timed(function, inside):
+    clock = time.perf_counter_ns
+
+    def call(*args):
+        t0 = clock()
+        status = function(*args)
+        inside[0] += clock() - t0
+        inside[1] += 1
+        return status
+    return call
+
+
+def _timer_cost(n=200_000):
+    """(ns a timed call adds around the call, ns it counts inside) for a no-op function."""
+    inside = [0, 0]
+    noop = lambda *args: 0  # noqa: E731
+    timed = _timed(noop, inside)
+    t0 = time.perf_counter_ns()
+    for _ in range(n):
+        timed(1, 2, 3, 4)
+    wrapped = (time.perf_counter_ns() - t0) / n
+    t0 = time.perf_counter_ns()
+    for _ in range(n):
+        noop(1, 2, 3, 4)
+    bare = (time.perf_counter_ns() - t0) / n
+    return wrapped - bare, inside[0] / n
+
+
+def overhead_us_per_step(scenario):
+    """(overhead, time inside FMI calls, loop total) in us per step, from one timed run."""
+    master = _TimedMaster(scenario, lambda times, rows: None)
+    outcome = master.run()
+    assert outcome.status == "completed", outcome.error
+    added, counted = _timer_cost()
+    ns_inside, calls = master.inside
+    inside = ns_inside - calls * counted
+    loop = outcome.loop_time * 1e9 - calls * added
+    return (loop - ns_inside - calls * (added - counted)) / outcome.steps / 1e3, \
+        inside / outcome.steps / 1e3, loop / outcome.steps / 1e3
+
+
+def master_us_per_step(scenario):
+    outcome = Master(scenario, lambda times, rows: None).run()
+    assert outcome.status == "completed", outcome.error
+    return outcome.loop_time / outcome.steps * 1e6
+
+
+def report(name, measured, target, ok, unit=""):
+    print(f"  {name:<58} {measured:>12} {unit:<8} target {target:<14} {'PASS' if ok else 'MISS'}")
+
+
+def target_overhead(repeats):
+    from bench_master import naive_us_per_step
+
+    print("1. master overhead, 4-FMU AOTV nominal system, 0.1 s step, 15 signals recorded")
+    scenario = load_scenario(NOMINAL)
+    master_us_per_step(scenario)  # warm-up
+    over, inside, total, naive = [], [], [], []
+    for _ in range(repeats):
+        o, i, t = overhead_us_per_step(scenario)
+        over.append(o), inside.append(i), total.append(t)
+        naive.append(naive_us_per_step(scenario))
+    o = statistics.median(over)
+    report("master overhead (loop minus time inside FMI calls)", f"{o:.1f}", "<= 12", o <= 12, "us/step")
+    print(f"     time inside the FMI calls {statistics.median(inside):.1f} us/step; whole step "
+          f"{statistics.median(total):.1f} us/step; naive FMPy loop {statistics.median(naive):.1f} us/step "
+          f"(ratio {statistics.median(total) / statistics.median(naive):.2f})")
+    return o
+
+
+def target_libcosim(repeats):
+    from libcosim_peer import libcosim_us_per_step, quiet
+
+    print("2. against OSP libcosim (libcosimpy), same FMUs, system and 0.1 s step")
+    quiet()
+    scenario = load_scenario(NOMINAL)
+    ours, peer = [], []
+    for _ in range(repeats):
+        ours.append(master_us_per_step(scenario))
+        peer.append(libcosim_us_per_step(scenario)[0])
+    ratio = statistics.median(ours) / statistics.median(peer)
+    report("master wall / libcosim wall per step", f"{ratio:.3f}", "<= 0.4", ratio <= 0.4)
+    print(f"     master {statistics.median(ours):.1f} us/step, libcosim {statistics.median(peer):.1f} us/step")
+
+
+def target_accuracy(repeats):
+    print("3. nominal pass, exit located: step 0.5 s with extrapolated inputs (aotv_time_linear_exit_accurate.json)")
+    exit_s = load_scenario(EXIT_ACCURATE)
+    nominal = load_scenario(NOMINAL, step=0.5)
+    nominal.inputs = "extrapolated"
+    ref_exit, ref_final = reference_run(exit_s), reference_run(load_scenario(NOMINAL))
+    walls, event, final = [], None, None
+    for _ in range(repeats):
+        last = []
+        outcome = Master(exit_s, lambda t, r: None).run()
+        walls.append(outcome.wall_time)
+        event = outcome.event
+        m = Master(nominal, lambda t, r: last.append(r[-1]))
+        m.run()
+        final = {s: last[-1][i] for s, i in m.index.items()}
+    wall = statistics.median(walls)
+    dv = event["values"]["vehicle.v"] - ref_exit.event["vehicle.v"]
+    dt = event["time"] - ref_exit.event_time
+    climb = ref_exit.event["vehicle.v"] * __import__("math").sin(ref_exit.event["vehicle.gamma"])
+    dh_final = final["vehicle.h"] - ref_final.final["vehicle.h"]
+    dv_final = final["vehicle.v"] - ref_final.final["vehicle.v"]
+    report("exit speed error at the 90 km crossing", f"{dv * 1e3:+.3f}", "<= 1", abs(dv) <= 1e-3, "mm/s")
+    report("exit altitude error (crossing-time error x climb rate)", f"{dt * climb:+.3f}", "<= 1",
+           abs(dt * climb) <= 1.0, "m")
+    report("altitude error at tf = 300 s (nominal, same step)", f"{dh_final:+.3f}", "<= 1", abs(dh_final) <= 1, "m")
+    report("speed error at tf = 300 s", f"{dv_final * 1e3:+.3f}", "<= 1", abs(dv_final) <= 1e-3, "mm/s")
+    report("wall time of the whole run (instantiation included)", f"{wall * 1e3:.1f}", "< 100", wall < 0.1, "ms")
+
+
+def target_montecarlo(runs, eff_runs):
+    from aotv_cosim.montecarlo import run_campaign
+
+    print(f"4. Monte Carlo, {CAMPAIGN.name} (time-linear law, rho_ref +-20% uniform)")
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        t1 = run_campaign(CAMPAIGN, eff_runs, tmp / "w1", workers=1, progress=False, make_plots=False)
+        t2 = run_campaign(CAMPAIGN, eff_runs, tmp / "w2", workers=2, progress=False, make_plots=False)
+        same = (tmp / "w1" / "rows.csv").read_text() == (tmp / "w2" / "rows.csv").read_text()
+        eff = t1["wall_time_s"] / (2 * t2["wall_time_s"])
+        big = run_campaign(CAMPAIGN, runs, tmp / "big", workers=2, progress=False)
+    report(f"{runs} runs on 2 workers", f"{big['wall_time_s']:.1f}", "<= 30", big["wall_time_s"] <= 30, "s")
+    print(f"     {big['runs_per_s']:.1f} runs/s, statuses {big['statuses']}")
+    report(f"parallel efficiency 1 -> 2 workers ({eff_runs} runs)", f"{eff * 100:.0f}", ">= 85", eff >= 0.85, "%")
+    print(f"     1 worker {t1['wall_time_s']:.1f} s, 2 workers {t2['wall_time_s']:.1f} s; rows identical: {same}")
+
+
+def target_guidance(repeats):
+    from aotv_cosim.guidance import mae
+    from aotv_cosim.guidance.predictive import solve_predictive
+    from aotv_cosim.physics.planar import ENTRY_000
+
+    print("5. guidance compute")
+    times = [solve_predictive(ENTRY_000).solve_time for _ in range(repeats)]
+    t = statistics.median(times)
+    report("predictive time-linear law, solve (seed-000 entry)", f"{t * 1e3:.1f}", "<= 50", t <= 0.05, "ms")
+    model = mae.MaeModel()
+    state = mae.State(model.r_earth + 60.0e3, 7851.0, -1.35 * 3.141592653589793 / 180, 0.0)
+    targets = mae.Targets(60.0e3, 1.0 * 3.141592653589793 / 180, 20.0 * 3.141592653589793 / 180)
+    nominal = mae.solve(state, targets)
+    moved = mae.State(state.r - 200.0, state.v - 2.0, state.gamma, state.psi)
+    times = [mae.solve(moved, targets, nominal).solve_time for _ in range(repeats)]
+    t = statistics.median(times)
+    report("MAE re-solve, warm-started (seed-001 entry, moved state)", f"{t * 1e3:.1f}", "<= 50", t <= 0.05, "ms")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--mc-runs", type=int, default=1000)
+    parser.add_argument("--eff-runs", type=int, default=200)
+    parser.add_argument("--skip", default="", help="comma-separated: overhead,libcosim,accuracy,montecarlo,guidance")
+    args = parser.parse_args()
+    skip = set(filter(None, args.skip.split(",")))
+    print(f"aotv-cosim performance targets (median of {args.repeats} runs)")
+    if "overhead" not in skip:
+        target_overhead(args.repeats)
+    if "libcosim" not in skip:
+        target_libcosim(args.repeats)
+    if "accuracy" not in skip:
+        target_accuracy(args.repeats)
+    if "montecarlo" not in skip:
+        target_montecarlo(args.mc_runs, args.eff_runs)
+    if "guidance" not in skip:
+        target_guidance(args.repeats)
+
+
+if __name__ == "__main__":
+    main()
