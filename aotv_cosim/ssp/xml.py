@@ -29,6 +29,11 @@ def q(name: str) -> str:
     return f"{{{NS[prefix]}}}{local}"
 
 
+def local(tag: str) -> str:
+    """'{namespace}System' -> 'System'."""
+    return tag.rsplit("}", 1)[-1]
+
+
 def schema_dir() -> Path:
     """The SSP 1.0 XSD folder that FMPy installs (fmpy/ssp/schema)."""
     import fmpy.ssp
