@@ -1,7 +1,8 @@
 """Scenario -> .ssp archive: FMUs, SystemStructure.ssd, one .ssv per component, default experiment.
 
-The SSD lists every component with a connector for each of its FMU's parameters, inputs and
-outputs (kind = causality, type and SI unit, description), the units' SI base-unit exponents,
+The SSD lists every component with a connector for each of its FMU's parameters, connected
+inputs and outputs (kind = causality, type and SI unit, description), the units' SI base-unit
+exponents,
 the connections, a ParameterBinding per component that references its values in
 ``resources/<component>.ssv`` (the wiring's values with the scenario's overrides applied), and
 the default experiment: start and stop as attributes, the communication step in the OSP
@@ -9,6 +10,11 @@ annotation libcosim reads (``osp:FixedStepAlgorithm baseStepSize``) and, with th
 algorithm, in an aotv-cosim annotation. Both XML files are checked against the SSP 1.0 schemas
 FMPy ships. The archive is reproducible: members in sorted order with a fixed date, no
 generation time, so the same scenario and FMUs give the same bytes.
+
+An input left unconnected (given a value in the wiring) gets its value from the parameter
+binding but no connector: FMPy 0.3's SSP simulator writes every input connector each step,
+with 0 when unconnected, and wires an unconnected input connector to the source of the
+connection listed before it; SSP allows bindings to name FMU variables without connectors.
 """
 
 import io
@@ -19,7 +25,7 @@ from xml.etree.ElementTree import Element, SubElement
 
 from aotv_cosim import __version__
 from aotv_cosim.errors import BuildError, InputError
-from aotv_cosim.ssp.xml import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
+from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
                                 schema_problems)
 
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
@@ -95,7 +101,8 @@ def _ssd(scenario, sources, ssv_sources):
     elements = SubElement(top, q("ssd:Elements"))
     units = {}
     for comp in system.components.values():
-        _component(elements, comp, sources[comp.name], ssv_sources.get(comp.name), units)
+        connected = {c.input for c in system.connections if c.target == comp.name}
+        _component(elements, comp, sources[comp.name], ssv_sources.get(comp.name), units, connected)
     if system.connections:
         connections = SubElement(top, q("ssd:Connections"))
         for c in system.connections:
@@ -111,13 +118,13 @@ def _ssd(scenario, sources, ssv_sources):
     return root
 
 
-def _component(elements, comp, source, ssv_source, units):
+def _component(elements, comp, source, ssv_source, units, connected):
     node = SubElement(elements, q("ssd:Component"),
                       {"name": comp.name, "type": "application/x-fmu-sharedlibrary", "source": source})
     defined = _unit_exponents(comp.fmu.model_description)
     connectors = SubElement(node, q("ssd:Connectors"))
     for var in comp.fmu.variables.values():
-        if var.causality not in KINDS:
+        if var.causality not in KINDS or (var.causality == "input" and var.name not in connected):
             continue
         if var.type not in TYPES:
             raise InputError(f"{comp.name}.{var.name} is of type {var.type}, which SSP tools cannot connect",

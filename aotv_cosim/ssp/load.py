@@ -20,7 +20,7 @@ from pathlib import Path, PurePosixPath
 from xml.etree import ElementTree
 
 from aotv_cosim.errors import InputError
-from aotv_cosim.ssp.xml import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
+from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
                                 schema_problems)
 
 SSD = "SystemStructure.ssd"
