@@ -5,9 +5,9 @@ are dropped: the third-party tools have none); final values of every output are 
 
 Agreement measured (0.1 s step, 3000 steps; docs/ssp.md keeps the table):
 - aotv_time_linear_nominal (seed-000 AOTV pass, time-linear law):
-  libcosim vs this master in Jacobi mode: largest relative difference over the 13 state
-  outputs (no direct feedthrough: vehicle h, r, theta, phi, v, gamma, psi, three integrals of u;
-  guidance u, a, b)
+  libcosim vs this master in Jacobi mode: largest relative difference over the 16 state
+  outputs (no direct feedthrough: vehicle h, r, theta, phi, v, gamma, psi, inclination,
+  apogee_alt, dv_circ, three integrals of u; guidance u, a, b)
   9e-15 (float rounding; the schemes are the same: every component steps from the same
   communication point, then outputs are transferred, and both propagate the connected
   values through initialization). Held here to 1e-6 relative, the acceptance bound.
