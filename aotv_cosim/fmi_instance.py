@@ -11,6 +11,7 @@ import ctypes
 import hashlib
 import os
 import shutil
+import sys
 import tempfile
 from pathlib import Path
 
@@ -48,6 +49,19 @@ def extracted(fmu_path: Path) -> Path:
     return target
 
 
+def _demote_new_paths(before: list) -> None:
+    """Move the sys.path entries inserted since `before` (a copy) to its end.
+
+    A pythonfmu FMU inserts its resources folder first on the host's sys.path at every
+    instantiation; ours bundle a partial copy of aotv_cosim there, which would then shadow the
+    real package in every process started later from this one (a Monte Carlo or Dask worker
+    spawned with this sys.path). At the end the folder still serves the FMU's own later imports.
+    """
+    n_new = len(sys.path) - len(before)
+    if n_new > 0 and sys.path[n_new:] == before:
+        sys.path[:] = before + [p for p in sys.path[:n_new] if p not in before]
+
+
 class FmuInstance:
     """An instantiated co-simulation FMU: raw doStep/getReal/setReal plus lifecycle calls."""
 
@@ -61,7 +75,12 @@ class FmuInstance:
         self.slave = FMU2Slave(guid=md.guid, unzipDirectory=str(extracted(info.path)),
                                modelIdentifier=info.model_identifier, instanceName=name)
         self._callbacks = self._make_callbacks()
-        self._call("instantiate", lambda: self.slave.instantiate(callbacks=self._callbacks, loggingOn=True))
+        before = list(sys.path)
+        try:
+            self._call("instantiate", lambda: self.slave.instantiate(callbacks=self._callbacks,
+                                                                     loggingOn=True))
+        finally:
+            _demote_new_paths(before)
         functions = self.slave._functions
         self.component = self.slave.component
         self.raw_do_step = functions["fmi2DoStep"]

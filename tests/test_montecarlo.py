@@ -4,6 +4,7 @@ failing and crashing runs recorded while the campaign goes on."""
 import csv
 import json
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -99,6 +100,18 @@ def test_three_sigma_ellipse_covers_its_axes():
     y = 0.5 * x + rng.normal(0.0, 0.1, 4000)
     ex, ey = ellipse_3sigma(x, y)
     assert np.max(np.abs(ex)) == pytest.approx(6.0, rel=0.05)
+
+
+def test_fmus_run_in_this_process_do_not_shadow_the_package_for_spawned_workers(local_20):
+    """pythonfmu puts each FMU's resources folder (a partial aotv_cosim) first on sys.path; a
+    process spawned afterwards (a Dask worker) would import that copy instead of the package."""
+    import sys
+
+    from aotv_cosim.master import Master
+
+    Master(load_scenario(CAMPAIGN), lambda times, rows: None).run()
+    first = next(p for p in sys.path if (Path(p or ".") / "aotv_cosim" / "__init__.py").is_file())
+    assert (Path(first or ".") / "aotv_cosim" / "montecarlo").is_dir(), sys.path[:4]
 
 
 def test_dispersion_of_a_non_parameter_is_an_input_error(tmp_path):
