@@ -13,10 +13,16 @@ again after those are set, so recorded values are consistent at each communicati
 Jacobi: every component steps from the same communication point, then all outputs are read and
 all inputs set, the scheme of OSP libcosim's fixed-step algorithm.
 
-The loop keeps per-component value-reference and value arrays made once (outputs are views into
-one shared ctypes buffer that numpy also sees), calls the C entry points directly, and records a
-numpy copy of the buffer per communication point. Non-finite values are searched for in whole
-chunks when they are flushed, not per step.
+Inputs held over a step (default) give a coupling error first order in the step; with the
+scenario's "step": {"inputs": "extrapolated"} the delayed inputs get the mean over the coming
+step of their sources' linear extrapolation, which makes it second order (`_end_of_sweep`).
+
+The loop keeps per-component value-reference and value arrays made once: outputs are views into
+one shared ctypes buffer that numpy also sees, and inputs whose sources lie side by side in that
+buffer are passed as views of it (no copy per step). It calls the C entry points directly and
+records the bytes of the buffer per communication point. Non-finite values are searched for in
+whole chunks when they are flushed, not per step. A `pool` kept by the caller lets a sequence
+of runs (Monte Carlo) reset the FMUs instead of instantiating them again.
 """
 
 import ctypes
@@ -370,7 +376,7 @@ class Master:
                     previous[:] = array
                 if done % every == 0 or last:
                     keep_time(t_new)
-                    keep_row(array.copy())
+                    keep_row(bytes(values))
                     if len(rows.rows) >= CHUNK:
                         rows.flush()
                 if progress and k % report_every == 0:
@@ -380,7 +386,10 @@ class Master:
 
 
 class Rows:
-    """Recorded communication points: a growing buffer flushed in chunks to `master.record`."""
+    """Recorded communication points flushed in chunks to `master.record`.
+
+    A row is kept as the bytes of the master's value buffer (one memcpy), made an array of rows
+    when the chunk is flushed."""
 
     def __init__(self, master, outcome):
         self.master = master
@@ -390,14 +399,16 @@ class Rows:
     def add(self, t):
         """Record the communication point t now (the loop itself records every n-th step)."""
         self.times.append(t)
-        self.rows.append(self.master.array.copy())
+        self.rows.append(bytes(self.master.values))
         if len(self.rows) >= CHUNK:
             self.flush()
 
     def flush(self):
         if not self.rows:
             return
-        times, rows = np.array(self.times), np.vstack(self.rows)
+        width = len(self.master.array)
+        rows = np.frombuffer(b"".join(self.rows), dtype=np.float64).reshape(len(self.rows), -1)[:, :width]
+        times = np.array(self.times)
         self.times.clear()
         self.rows.clear()
         bad = ~np.isfinite(rows)
