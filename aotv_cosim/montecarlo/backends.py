@@ -45,7 +45,8 @@ def local(scenario_path, sets, batches, workers, columns):
         for group, size in [(shared, workers)] + [(g, 1) for g in isolated]:
             if not group:
                 continue
-            with _pool(size) as pool:
+            pool = _pool(size)
+            try:
                 futures = {pool.submit(run_batch, scenario_path, sets, b): b for b in group}
                 for future in cf.as_completed(futures):
                     batch = futures[future]
@@ -57,6 +58,8 @@ def local(scenario_path, sets, batches, workers, columns):
                         else:
                             split = _retry_plan(batch)
                             queue += [(b, False) for b in split] if split else [(batch, True)]
+            finally:  # interrupted: batches not started are dropped, running ones end
+                pool.shutdown(wait=True, cancel_futures=True)
 
 
 def dask(scenario_path, sets, batches, address, columns):

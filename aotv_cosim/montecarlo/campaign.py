@@ -55,6 +55,7 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
             if bar is not None:
                 bar.update(len(rows))
     finally:
+        source.close()  # on an interruption, stop the backend's pending work
         if bar is not None:
             bar.close()
     wall = time.perf_counter() - t0
