@@ -141,7 +141,7 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
 
 def _step_options(doc) -> dict:
     """The scenario's "step" as an object: a bare number is {"size": number}."""
-    step = doc["step"]
+    step = doc.get("step")  # an .ssp without a step needs --step (checked when it is read)
     return step if isinstance(step, dict) else {"size": step}
 
 
