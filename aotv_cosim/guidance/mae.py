@@ -284,6 +284,14 @@ class MaeConstants:
         p_gamma = side.p_gamma(h) + self.inner.p_gamma(psi) - side.p_gamma0
         return u, gamma, p_u, p_gamma
 
+    def exit_speed(self, r_f: float, psi_f: float) -> float:
+        """Composite prediction of the exit speed V_f (m/s) at radius r_f (m), heading psi_f (rad).
+
+        u_c(h_f) of (3.100) on the right side, V = sqrt(u g_s r_s) (3.12); the value (3.54) maximizes.
+        """
+        u_f = self.composite(self.right, (r_f - self.r_s) / self.r_s, psi_f)[0]
+        return float(math.sqrt(u_f * self.gs_rs))
+
     def unknowns(self, psi: float) -> np.ndarray:
         """Outer-Newton unknowns (gamma_L, v_L, gamma_R, P_vR) for a warm start at heading psi (rad).
 
