@@ -30,7 +30,7 @@ class MaeGuidanceLaw:
 
     targets: exit conditions; period: time between re-solves (s); measured_u_in_p_u: extraction
     A17 option of `mae.controls`; stop_turn_at_psi_f: see the module docstring.
-    solutions collects every `mae.MaeSolution` (time s, solution) for reports and plots.
+    solutions logs every solve as (time s, measured `mae.State`, `mae.MaeSolution`).
     """
 
     targets: mae.Targets
@@ -51,7 +51,7 @@ class MaeGuidanceLaw:
         if self.solution is not None and t < self.next_update - TIME_TOL * self.period:
             return False
         self.solution = mae.solve(state, self.targets, self.solution, self.model)
-        self.solutions.append((t, self.solution))
+        self.solutions.append((t, state, self.solution))
         while self.next_update <= t + TIME_TOL * self.period:
             self.next_update += self.period
         return True
@@ -68,4 +68,4 @@ class MaeGuidanceLaw:
     @property
     def failures(self) -> int:
         """Number of re-solves that did not converge (their constants were not used)."""
-        return sum(1 for _, s in self.solutions if not s.converged)
+        return sum(1 for _, _, s in self.solutions if not s.converged)
