@@ -52,6 +52,11 @@ class MaeGuidance(AotvSlave):
         out("lam", "1", "Normalized lift command lambda (eq. 3.26)", lambda: self._command()[0],
             depends_on=STATE)
         out("bank", "rad", "Bank command mu (eq. 3.27)", lambda: self._command()[1], depends_on=STATE)
+        for i, (name, what) in enumerate([("p_u", "P_u (eqs. 3.105, 3.108)"),
+                                          ("p_gamma", "P_gamma (eqs. 3.106, 3.109)"),
+                                          ("p_psi", "P_psi = a3 (eq. 3.107)")]):
+            out(name, "1", f"Composite costate {what} at the measured state",
+                lambda i=i: self._law().costates(self._state())[i], depends_on=STATE)
         solved = self._solution_output
         solved("solve_time", "s", "Wall-clock time of the last MAE solve", lambda s: s.solve_time)
         solved("converged", "1", "1 if the last MAE solve converged, else 0",

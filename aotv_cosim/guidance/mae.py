@@ -517,22 +517,30 @@ def solve(state: State, targets: Targets, previous: "MaeSolution | None" = None,
     return MaeSolution(k, True, iterations, residual, time.perf_counter() - t0, mode)
 
 
-def controls(k: MaeConstants, r: float, v: float, gamma: float, psi: float,
-             measured_u_in_p_u: bool = False):
-    """Feedback (lambda, bank mu) from the held constants and the measured state (Sec. 3.8.1).
+def composite_costates(k: MaeConstants, r: float, v: float, gamma: float, psi: float,
+                       measured_u_in_p_u: bool = False):
+    """(u, P_u, P_gamma, P_psi) at the measured state from the held constants (Sec. 3.8.1).
 
-    r in m, v in m/s, gamma and psi in rad; the bank angle is returned in rad.
-    h = (r - r_s)/r_s (3.11), u = V^2/(g_s r_s) (3.12); composite costates (3.105)-(3.110)
-    with the measured psi in (3.64) (A16), the left
-    outer solution while gamma < 0 in the entry phase, the right one otherwise; then (3.26)-(3.27)
-    with the measured gamma and u. measured_u_in_p_u selects the measured u instead of
-    u_0^i(psi) in the inner P_u (extraction A17).
+    r in m, v in m/s, gamma and psi in rad. h = (r - r_s)/r_s (3.11), u = V^2/(g_s r_s) (3.12);
+    composite costates (3.105)-(3.110) with the measured psi in (3.64) (A16), the left outer
+    solution while gamma < 0 in the entry phase, the right one otherwise; P_psi = a3 (3.107).
+    measured_u_in_p_u selects the measured u instead of u_0^i(psi) in the inner P_u (A17).
     """
     h = (r - k.r_s) / k.r_s
     u = v * v / k.gs_rs
     side = k.side(k.mode == ENTRY and gamma < 0.0)
     _, _, p_u, p_gamma = k.composite(side, h, psi, u if measured_u_in_p_u else None)
-    lam, bank = control_from_costates(u, gamma, p_u, p_gamma, k.inner.p_psi, k.e_star)
+    return u, float(p_u), float(p_gamma), k.inner.p_psi
+
+
+def controls(k: MaeConstants, r: float, v: float, gamma: float, psi: float,
+             measured_u_in_p_u: bool = False):
+    """Feedback (lambda, bank mu in rad) from the held constants and the measured state (Sec. 3.8.1).
+
+    The composite costates of `composite_costates` in (3.26)-(3.27) with the measured gamma and u.
+    """
+    u, p_u, p_gamma, p_psi = composite_costates(k, r, v, gamma, psi, measured_u_in_p_u)
+    lam, bank = control_from_costates(u, gamma, p_u, p_gamma, p_psi, k.e_star)
     return float(lam), float(bank)
 
 

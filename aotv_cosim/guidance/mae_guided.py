@@ -65,6 +65,11 @@ class MaeGuidanceLaw:
             return abs(delta), (0.0 if delta >= 0.0 else math.pi)
         return lam, bank
 
+    def costates(self, state: mae.State):
+        """Composite (P_u, P_gamma, P_psi) of the held constants at the measured state (3.105)-(3.110)."""
+        return mae.composite_costates(self.solution.constants, state.r, state.v, state.gamma,
+                                      state.psi, self.measured_u_in_p_u)[1:]
+
     @property
     def failures(self) -> int:
         """Number of re-solves that did not converge (their constants were not used)."""
