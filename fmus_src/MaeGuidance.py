@@ -18,6 +18,8 @@ class MaeGuidance(AotvSlave):
     warm-started; lambda and mu follow from the held constants at every step, eqs. (3.26)-(3.27)
     with the composite costates (3.105)-(3.110). Exit phase once gamma >= 0 (r_s frozen, extraction
     4.7); a failed re-solve keeps the last converged constants (extraction A19) and is counted.
+    Options: measured u in P_u (A17), the experimental first-order HJB correction (Sec. 4), and
+    stop_turn_at_psi_f (ours); see aotv_cosim.guidance.mae_guided.
     The atmosphere and vehicle parameters must match the Atmosphere and vehicle FMUs: the solve
     maps density to the inner variable w = K_w rho(r) (eq. 3.43).
     """
@@ -42,6 +44,8 @@ class MaeGuidance(AotvSlave):
         p("mu", constants.MU_EARTH, "m3/s2", "Gravitational parameter")
         self.integer_parameter("measured_u_in_p_u", 0,
                                "1: measured u in the inner P_u (extraction A17); 0: u_0^i(psi)")
+        self.integer_parameter("first_order", 0,
+                               "1: first-order HJB costate correction at each re-solve (Sec. 4, experimental)")
         self.integer_parameter("stop_turn_at_psi_f", 0,
                                "1: only the vertical lift component once psi >= psi_f (not in the report)")
         start = (mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
@@ -96,7 +100,8 @@ class MaeGuidance(AotvSlave):
                              self.rho_ref, self.h_ref, self.R_e, self.mu)
         return MaeGuidanceLaw(mae.Targets(self.z_f, self.gamma_f, self.psi_f), model,
                               self.update_period, bool(self.measured_u_in_p_u),
-                              bool(self.stop_turn_at_psi_f), next_update=self.start_time)
+                              bool(self.stop_turn_at_psi_f), bool(self.first_order),
+                              next_update=self.start_time)
 
     def _law(self):
         """The running law; in initialization mode, the one solved for the current inputs."""
