@@ -533,17 +533,6 @@ def composite_costates(k: MaeConstants, r: float, v: float, gamma: float, psi: f
     return u, float(p_u), float(p_gamma), k.inner.p_psi
 
 
-def controls(k: MaeConstants, r: float, v: float, gamma: float, psi: float,
-             measured_u_in_p_u: bool = False):
-    """Feedback (lambda, bank mu in rad) from the held constants and the measured state (Sec. 3.8.1).
-
-    The composite costates of `composite_costates` in (3.26)-(3.27) with the measured gamma and u.
-    """
-    u, p_u, p_gamma, p_psi = composite_costates(k, r, v, gamma, psi, measured_u_in_p_u)
-    lam, bank = control_from_costates(u, gamma, p_u, p_gamma, p_psi, k.e_star)
-    return float(lam), float(bank)
-
-
 @dataclass(frozen=True)
 class CompositeHistory:
     """Open-loop zeroth-order composite along the heading (arrays; SI units, angles in rad)."""

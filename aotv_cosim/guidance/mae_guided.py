@@ -4,7 +4,7 @@ Calise & Melamed, NASA CR-194523 (1993), Sec. 3.8.1 as read in the seed-001 extr
 A16-A19): the zeroth-order MAE problem (`mae.solve`) is re-solved every `period` seconds (5 s in
 Sec. 3.8.2) from the measured state, warm-started from the previous solution; between re-solves
 the held constants give the composite costates at the measured state and lambda, mu follow from
-(3.26)-(3.27) at every evaluation (`mae.controls`). The exit phase starts when the measured
+(3.26)-(3.27) at every evaluation (`mae.composite_costates`, `mae.control_from_costates`). The exit phase starts when the measured
 gamma >= 0 (r_s frozen, left outer solution dropped); a failed re-solve keeps the last converged
 constants (A19).
 
@@ -34,7 +34,7 @@ class MaeGuidanceLaw:
     """State of the feedback law: the last solution, the next re-solve time and a solve log.
 
     targets: exit conditions; period: time between re-solves (s); measured_u_in_p_u: extraction
-    A17 option of `mae.controls`; stop_turn_at_psi_f: see the module docstring.
+    A17 option of `mae.composite_costates`; stop_turn_at_psi_f: see the module docstring.
     solutions logs every solve as (time s, measured `mae.State`, `mae.MaeSolution`).
     """
 
