@@ -4,9 +4,9 @@ Calise & Melamed, NASA CR-194523 (1993), Sec. 3.8.1 as read in the seed-001 extr
 A16-A19): the zeroth-order MAE problem (`mae.solve`) is re-solved every `period` seconds (5 s in
 Sec. 3.8.2) from the measured state, warm-started from the previous solution; between re-solves
 the held constants give the composite costates at the measured state and lambda, mu follow from
-(3.26)-(3.27) at every evaluation (`mae.composite_costates`, `mae.control_from_costates`). The exit phase starts when the measured
-gamma >= 0 (r_s frozen, left outer solution dropped); a failed re-solve keeps the last converged
-constants (A19).
+(3.26)-(3.27) at every evaluation (`mae.composite_costates`, `mae.control_from_costates`). The
+exit phase starts when the measured gamma >= 0 (r_s frozen, left outer solution dropped); a
+failed re-solve keeps the last converged constants (A19).
 
 Option `first_order` (experimental, Sec. 4.3): at each converged re-solve the costates are replaced
 by the gradient of the first-order return function (`mae_first_order`); the difference to the
@@ -16,7 +16,7 @@ next re-solve (the report computed this correction but did not fly it).
 One option goes beyond the report (off by default): `stop_turn_at_psi_f` flies only the vertical
 lift component delta = lambda cos mu (bank 0 or pi) once the measured heading has reached psi_f.
 In the terminal phase the exit-mode MAE has no solution (A19) and the held constants keep
-turning the vehicle past psi_f; every degree of overshoot costs about V/E* per rad of speed.
+turning the vehicle past psi_f, and turning costs speed: dV/dpsi is about V/E* (~50 m/s per deg).
 """
 
 import math
