@@ -1,5 +1,5 @@
-"""Seed 001 through the master: the MAE guidance FMU flying the LiftBankVehicle FMU
-(scenarios/plane_change_mae_*.json; Calise & Melamed, NASA CR-194523, Secs. 3.7-3.8).
+"""Seed 001 through the master: the MAE guidance FMU and the open-loop optimum flying the
+LiftBankVehicle FMU (scenarios/plane_change_*.json; Calise & Melamed, NASA CR-194523, Secs. 3.7-3.8).
 
 Every expectation in the scenarios cites its source in the report or the extraction
 (`shared/research/seed-001-nasa-mae.md` Secs. 6, 9, 10) and states its tolerance.
@@ -12,7 +12,8 @@ from aotv_cosim.scenario import load_scenario
 
 from conftest import SCENARIOS
 
-CASES = ["plane_change_mae_open_loop", "plane_change_mae_guided", "plane_change_mae_stop_turn"]
+CASES = ["plane_change_mae_open_loop", "plane_change_mae_guided", "plane_change_mae_stop_turn",
+         "plane_change_optimal"]
 
 
 @pytest.fixture(scope="module")
