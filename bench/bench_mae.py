@@ -45,7 +45,9 @@ def guided_resolves(dt=0.1):
         previous = law.solution
         if law.update(t, mae.State(*x)) and previous is not None:
             cases.append((mae.State(*x), previous))
-        rate = lambda y: _rates(y, *law.command(mae.State(*y)))  # noqa: E731
+
+        def rate(y):
+            return _rates(y, *law.command(mae.State(*y)))
         k1 = rate(x)
         k2 = rate(x + 0.5 * dt * k1)
         k3 = rate(x + 0.5 * dt * k2)

@@ -45,7 +45,7 @@ class MaeGuidance(AotvSlave):
         self.integer_parameter("measured_u_in_p_u", 0,
                                "1: measured u in the inner P_u (extraction A17); 0: u_0^i(psi)")
         self.integer_parameter("first_order", 0,
-                               "1: first-order HJB costate correction at each re-solve (Sec. 4, experimental)")
+                               "1: first-order HJB costate correction (Sec. 4, experimental)")
         self.integer_parameter("stop_turn_at_psi_f", 0,
                                "1: only the vertical lift component once psi >= psi_f (not in the report)")
         start = (mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
