@@ -38,6 +38,8 @@ UNIT_EXPONENTS = {
     "W/m2": {"kg": 1, "s": -3},
     "kg/(s.m)": {"kg": 1, "m": -1, "s": -1},
     "1/m": {"m": -1},
+    "1/s": {"s": -1},
+    "1/s2": {"s": -2},
 }
 
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}

@@ -183,6 +183,24 @@ def estimate_k_ball(v_dot: float, h0: float, v0: float, gamma0: float,
     return -(v_dot + g * math.sin(gamma0)) / (math.exp(-h0 / scale_height) * v0 * v0)
 
 
+def solve_predictive_adaptive(entry, drag_acc: float, exit_target=EXIT_000,
+                              g: float = AotvConstants.si().g,
+                              scale_height: float = AotvConstants.si().scale_height):
+    """Predictive adaptive law of Sec. 8.1: K from the entry deceleration (8.1), then (a, b, tf').
+
+    entry: (h0 m, v0 m/s, gamma0 rad); drag_acc: the drag specific force D/m measured at entry
+    (m/s^2, positive), so the measured dv/dt of (2.7) is -drag_acc - g sin(gamma0). (a, b, tf')
+    are re-solved by `solve_predictive` for the estimated K (rather than read off the fits
+    (8.2)-(8.4)). Returns (K in 1/m, PredictiveSolution) with solve_time covering both steps.
+    """
+    start = time.perf_counter()
+    v_dot = -drag_acc - g * math.sin(entry[2])
+    k_est = estimate_k_ball(v_dot, entry[0], entry[1], entry[2], g, scale_height)
+    sol = solve_predictive(entry, exit_target, k_est)
+    return k_est, PredictiveSolution(sol.a, sol.b, sol.tf, sol.residual, sol.iterations,
+                                     sol.converged, time.perf_counter() - start)
+
+
 TF_INTERCEPT_PRINTED = 448.94712
 """Intercept of eq. (8.4) as printed, s."""
 TF_INTERCEPT_CORRECTED = 449.94712
