@@ -74,10 +74,15 @@ class TerminalLqrLaw:
         self.frozen = lqr.frozen_linearization(desired_state(self.nominal, 0.0, self.r_earth),
                                                float(self.nominal.u(0.0)), self.k_ball)
 
+    _last: tuple = field(init=False, default=(None, None))
+
     def gain(self, t):
-        """k(t) of (5.13), km-s, shape (3,)."""
-        return lqr.terminal_gain_schedule(*self.frozen, [min(t, self.tf)], self.tf, np.diag(self.q),
-                                          self.r, np.diag(self.v_term))[0]
+        """k(t) of (5.13), km-s, shape (3,); the last one is kept (u and du read it at one t)."""
+        if self._last[0] != t:
+            k = lqr.terminal_gain_schedule(*self.frozen, [min(t, self.tf)], self.tf, np.diag(self.q),
+                                           self.r, np.diag(self.v_term))[0]
+            self._last = (t, k)
+        return self._last[1]
 
     def delta_u(self, t, state):
         return lqr.feedback(self.gain(t), state, desired_state(self.nominal, t, self.r_earth))
