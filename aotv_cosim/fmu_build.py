@@ -25,7 +25,8 @@ from pythonfmu.builder import FmuBuilder
 from aotv_cosim.errors import BuildError
 
 PACKAGE_DIR = Path(__file__).resolve().parent
-RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "guidance_slave.py", "physics", "guidance")
+RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "guidance_slave.py", "vehicle_slave.py",
+           "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
