@@ -25,7 +25,7 @@ from scipy.integrate import solve_ivp
 
 from aotv_cosim.guidance.time_linear import closed_form_gamma_rate
 from aotv_cosim.physics.planar import (
-    EXIT_000, K_BALL_000, AotvConstants, dynamics, input_b, jacobian_a,
+    EXIT_000, K_BALL_000, AotvConstants, dynamics, time_linear_variational,
 )
 
 RTOL = 1e-10
@@ -63,20 +63,13 @@ def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConst
     x(tf) with respect to (a, b, tf).
 
     The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
-    along the trajectory; (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
+    along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
     relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
     """
 
-    def rhs(t, y):
-        x, u = y[:3], a + b * t
-        s = jacobian_a(x, u, c) @ y[3:].reshape(3, 2)
-        bvec = input_b(x)
-        s[:, 0] += bvec
-        s[:, 1] += bvec * t
-        return np.concatenate([dynamics(x, u, c), s.ravel()])
-
     y0 = np.concatenate([x0, np.zeros(6)])
-    y = solve_ivp(rhs, (0.0, tf), y0, method="DOP853", rtol=RTOL, atol=_ATOL).y[:, -1]
+    y = solve_ivp(time_linear_variational, (0.0, tf), y0, method="DOP853", rtol=RTOL, atol=_ATOL,
+                  args=(a, b, c)).y[:, -1]
     x = y[:3]
     jac = np.column_stack([y[3:].reshape(3, 2), dynamics(x, a + b * tf, c)])
     return x, jac
