@@ -1,4 +1,4 @@
-"""The `aotv-cosim` command: run, check, validate, build-fmus, compare.
+"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp, compare.
 
 Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
 exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
@@ -192,6 +192,27 @@ def build_fmus(out):
     def body():
         for name, path in fmu_build.build_all(out).items():
             click.echo(f"{name}: {path}")
+
+    _guard(body)
+
+
+@main.command("export-ssp")
+@click.argument("scenario", type=click.Path(dir_okay=False))
+@click.option("-o", "--out", "out", required=True, type=click.Path(dir_okay=False),
+              help="The .ssp archive to write.")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
+def export_ssp(scenario, out, sets, step):
+    """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
+    from aotv_cosim.scenario import load_scenario, parse_sets
+    from aotv_cosim.ssp.export import export_ssp as write_ssp
+
+    def body():
+        loaded = load_scenario(scenario, parse_sets(sets), step)
+        path = write_ssp(loaded, out)
+        click.echo(f"{path}: {len(loaded.system.components)} components, "
+                   f"{len(loaded.system.connections)} connections, "
+                   f"{loaded.start:g}..{loaded.stop:g} s by {loaded.step:g} s")
 
     _guard(body)
 
