@@ -1,4 +1,4 @@
-"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp.
+"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp, compare.
 
 Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
 exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
@@ -213,5 +213,25 @@ def export_ssp(scenario, out, sets, step):
         click.echo(f"{path}: {len(loaded.system.components)} components, "
                    f"{len(loaded.system.connections)} connections, "
                    f"{loaded.start:g}..{loaded.stop:g} s by {loaded.step:g} s")
+
+    _guard(body)
+
+
+@main.command()
+@click.argument("comparison", default="scenarios/aotv_compare.json", type=click.Path(dir_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<comparison>].")
+@click.option("--no-plots", is_flag=True, help="Skip the overlaid plots.")
+def compare(comparison, out, no_plots):
+    """Fly every guidance law of COMPARISON [scenarios/aotv_compare.json] through the same
+    (dispersed) atmosphere; write comparison.csv and comparison.png, print the table."""
+    from aotv_cosim.compare import format_table, load_comparison, run_comparison
+
+    def body():
+        loaded = load_comparison(comparison)
+        out_dir = Path(out) if out else DEFAULT_OUT / Path(comparison).stem
+        table = run_comparison(loaded, out_dir, progress=lambda law: click.echo(f"flying {law}", err=True),
+                               make_plots=not no_plots)
+        click.echo(format_table(table))
+        click.echo(f"table in {out_dir / 'comparison.csv'}")
 
     _guard(body)

@@ -12,7 +12,8 @@ import jsonschema
 
 from aotv_cosim.errors import InputError, raise_if_any
 
-SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json"}
+SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
+           "compare": "compare.schema.json"}
 
 _FIXES = {
     "required": "add the missing field",
