@@ -42,6 +42,7 @@ UNIT_EXPONENTS = {
     "1/rad2": {"rad": -2},
     "m2": {"m": 2},
     "kg": {"kg": 1},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
 }
 
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}

@@ -236,13 +236,16 @@ class BackwardRates:
     """xi-rates of the flight condition received at communication points (thesis Sec. 2.3.1:
     V', gamma', alpha0', gamma'', alpha0'' by numerical differentiation of the trajectory data).
 
-    Keeps the last three distinct samples (t, V, gamma, theta0) and differentiates with the
-    three-point backward (Lagrange) formulas on the non-uniform time grid, then converts d/dt to
-    d/dxi = (L/V) d/dt (1.36)-(1.37). Fewer than three samples give first differences, one sample
-    zero rates.
+    Keeps the last three samples (t, V, gamma, theta0) at least `spacing` seconds apart (a wide
+    base keeps the second difference far above round-off and the step-to-step ripple of the
+    zero-order hold; the lag, about one spacing, is short against the minutes over which the
+    trajectory changes), differentiates them with the three-point backward (Lagrange) formulas on
+    the non-uniform grid, and converts d/dt to d/dxi = (L/V) d/dt (1.36)-(1.37). Fewer than three
+    samples give first differences, one sample zero rates.
     """
 
-    def __init__(self, L: float = GENERIC.L):
+    def __init__(self, spacing: float = 1.0, L: float = GENERIC.L):
+        self.spacing = spacing
         self.L = L
         self.samples = []
 
@@ -250,11 +253,10 @@ class BackwardRates:
         self.samples = []
 
     def add(self, t: float, v: float, gamma: float, theta: float):
-        """Record the condition at time t (s); a repeated t replaces the last sample."""
-        if self.samples and t <= self.samples[-1][0]:
-            self.samples[-1] = (t, v, gamma, theta)
-        else:
-            self.samples = (self.samples + [(t, v, gamma, theta)])[-3:]
+        """Offer the condition at time t (s); kept when `spacing` after the newest kept sample."""
+        s = self.samples
+        if not s or t - s[-1][0] >= self.spacing:
+            self.samples = (s + [(t, v, gamma, theta)])[-3:]
 
     def rates(self) -> TrajectoryRates:
         s = self.samples

@@ -200,3 +200,20 @@ def calibrate_moment_derivatives(trajectory: Trajectory, cm_alphadot: float = 0.
         rhs.append(mu_needed)
     cm_de_0, cm_de_1 = np.linalg.solve(np.array(rows), np.array(rhs))
     return MomentDerivatives(float(cm_alpha), cm_alphadot, float(cm_q), float(cm_de_0), float(cm_de_1))
+
+
+def predict(h0: float, v0: float, gamma0: float, xi_span: float, samples: int = 2000) -> Trajectory:
+    """The nominal glide flown from (h0 m, v0 m/s, gamma0 rad) over at least xi_span lengths:
+    the a priori data of the LQR laws (extraction A-22). About `samples` RK4 steps."""
+    t_max = 1.5 * xi_span * GENERIC.L / v0 + 5.0
+    dt = min(0.5, max(0.002, t_max / samples))
+    return fly(h0, v0, gamma0, dt=dt, h_stop=0.0, t_max=t_max)
+
+
+def coefficient_model(trajectory: Trajectory, **model):
+    """Callable xi_local -> (omega0, omega1, omega0', omega1') interpolated along `trajectory`,
+    xi_local measured from its first sample (the LQR coefficient input)."""
+    c = trajectory.coefficients(**model)
+    xi = trajectory.xi - trajectory.xi[0]
+    tables = [c["omega0"], c["omega1"], np.gradient(c["omega0"], xi), np.gradient(c["omega1"], xi)]
+    return lambda x: tuple(float(np.interp(x, xi, tab)) for tab in tables)
