@@ -17,7 +17,7 @@ class ShuttleLqr(AotvSlave):
     At initialization it flies the nominal glide ahead of the measured state (a priori data,
     extraction A-22), and solves either the backward Riccati equation and forward co-state
     (method 0, Sec. 4.2) or the asymptotic multiple-time-scales solution (method 1, Sec. 4.3) from
-    the measured X(xi0). feedback 0 flies the optimal u*(xi) open loop, as the thesis does;
+    the measured X(xi0); `literal` picks the asymptotic variant (guidance.shuttle_lqr.AsymptoticLqr). feedback 0 flies the optimal u*(xi) open loop, as the thesis does;
     feedback 1 applies u = -R^-1 B^T K^-1(xi) X with the measured X (beyond the thesis) until
     0.98 window. After the window: delta_e = f / mu (A-15). delta_e = (f - u) / mu (4.9).
     """
@@ -30,6 +30,8 @@ class ShuttleLqr(AotvSlave):
         self.parameter("R", lqr.R_PRINTED["150kft"], "1", "Control weight R (Q = I)")
         self.parameter("window", 446.8, "1", "xi_f - xi0, shuttle lengths")
         self.integer_parameter("method", 0, "0: numerical Riccati; 1: asymptotic")
+        self.integer_parameter("literal", 0, "method 1: 0 coefficients frozen at xi_f, quartic "
+                               "(4.85); 1 as printed: roots of (4.82) and A follow xi")
         self.integer_parameter("feedback", 0, "0: optimal u* open loop; 1: u = -R^-1 B^T K^-1 X")
         for name, unit in (("h", "m"), ("v", "m/s"), ("gamma", "rad")):
             self.input(name, 0.0 if name != "v" else 1.0, unit, f"Nominal {name} (latched at start)")
@@ -60,7 +62,9 @@ class ShuttleLqr(AotvSlave):
             num = lqr.NumericalLqr.solve(coeffs, self.window, self.R, x0, n=grid.size)
             u, x, gain = num.u, num.x, lqr.riccati_backward(coeffs, self.window, self.R)
         else:
-            asym = lqr.AsymptoticLqr.at_final(coeffs, self.window, self.R)
+            literal = self.literal == 1
+            asym = lqr.AsymptoticLqr.at_final(coeffs, self.window, self.R,
+                                              "full" if literal else "reduced", not literal)
             u, x = asym.trajectory(x0, grid)
             gain = asym.gain
         return {"xi0": self.xi, "grid": grid, "u": u, "x": x, "gain": gain,
@@ -69,7 +73,7 @@ class ShuttleLqr(AotvSlave):
     def _solution(self):
         if self.latched is not None:
             return self.latched
-        key = tuple(getattr(self, n) for n in LATCHED + ("R", "window", "method"))
+        key = tuple(getattr(self, n) for n in LATCHED + ("R", "window", "method", "literal"))
         if key != self._cache[0]:
             self._cache = (key, self._solve())
         return self._cache[1]

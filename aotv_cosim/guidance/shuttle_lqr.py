@@ -10,7 +10,7 @@ Two solutions, both on local xi (xi0 = 0 at the controller start, extraction A-1
   not the thesis's explicit Euler), then the co-state P*' = -(Q K + A^T) P* (4.32) forward from
   P*(xi0) = K^-1(xi0) X(xi0) (4.31), u* = -R^-1 B^T P* (4.17), X* = K P* (4.26);
 - asymptotic (Sec. 4.3): the linearized Riccati equation (4.46) with the corrected Omega1, Omega0
-  (4.61)-(4.62), A-17), its quartic (4.82)-(4.84, corrected linear term), the characteristic
+  (4.61)-(4.62), A-17), its quartic (4.82) or (4.85), the characteristic
   coefficients C_ijk (4.87)-(4.96) frozen at xi_f, Lambda(xi) = sum C_ijk exp(s_k(xi) xi) (4.86),
   K = -[A^T + Lambda' Lambda^-1] (4.98) and u* = -R^-1 B^T Lambda(xi) Gamma (4.111).
 
@@ -119,19 +119,39 @@ def characteristic_coefficients(omega0, omega1, omega0_p, omega1_p, r, xi_f):
 
 @dataclass
 class AsymptoticLqr:
-    """Multiple-time-scales solution (Sec. 4.3): C_ijk frozen at xi_f, roots s_k(xi) varying."""
+    """Multiple-time-scales solution (Sec. 4.3): Lambda = sum C_ijk exp(s_k xi), eq. (4.86) on
+    local xi (A-13), C_ijk frozen at xi_f (4.96).
+
+    quartic "full": roots of (4.82) with the derivative terms omega0', omega1' (the thesis's
+    choice "for the sake of accuracy"); "reduced": (4.85), derivatives dropped.
+    frozen False: s_k(xi) and A(xi) follow the coefficients along the window, as the thesis does;
+    True: every coefficient is frozen at xi_f with the C_ijk (the constant-coefficient solution
+    with the xi_f values). Lambda' is the dominant-order sum s_k C_ijk exp(s_k xi) (A-13). K =
+    -[A^T + Lambda' Lambda^-1] cancels to about 1e-5 in K21 and K22, so a drift of the roots or of
+    omega1 away from the values the C_ijk were solved with is amplified (docs/seed003.md).
+    """
 
     c: np.ndarray
     coeffs: object
     r: float
+    quartic: str = "full"
 
     @classmethod
-    def at_final(cls, coeffs, xi_f: float, r: float):
-        return cls(characteristic_coefficients(*coeffs(xi_f), r, xi_f), coeffs, r)
+    def at_final(cls, coeffs, xi_f: float, r: float, quartic: str = "full", frozen: bool = False):
+        if frozen:
+            final = coeffs(xi_f)
+            coeffs = lambda xi: final  # noqa: E731
+        out = cls(None, coeffs, r, quartic)
+        out.c = characteristic_coefficients(*out._root_coeffs(xi_f), r, xi_f)
+        return out
+
+    def _root_coeffs(self, xi: float):
+        w0, w1, w0p, w1p = self.coeffs(xi)
+        return (w0, w1, w0p, w1p) if self.quartic == "full" else (w0, w1, 0.0, 0.0)
 
     def lam(self, xi: float):
-        """(Lambda, Lambda') at local xi, eq. (4.86) with Lambda' = sum s_k C e^{s_k xi} (A-13)."""
-        s = roots(*self.coeffs(xi), self.r)
+        """(Lambda, Lambda') at local xi."""
+        s = roots(*self._root_coeffs(xi), self.r)
         e = np.exp(s * xi)
         return (np.real(np.einsum("ijk,k->ij", self.c, e)),
                 np.real(np.einsum("ijk,k->ij", self.c, s * e)))
