@@ -13,9 +13,9 @@ class PitchVehicle(AotvSlave):
     coefficients of the flight condition received through the inputs (rho, h, v, gamma, alpha0),
     held over each step; the xi-rates of the trim moment come from backward differences of the
     condition received at each step (shuttle_pitch.BackwardRates; sampled in do_step only, so every
-    sample has the same timing relative to the upstream vehicle whatever the master's algorithm). Outputs alpha, its rates, xi and the
-    coefficients omega0, omega1, f, mu for the controllers, the elevator torque (1.60) and the
-    settling time: the last time |alpha| exceeded settle_band.
+    sample has the same timing relative to the upstream vehicle whatever the master's algorithm).
+    Outputs alpha, its rates, xi and the coefficients omega0, omega1, f, mu for the controllers,
+    the elevator torque (1.60) and the settling time: the last time |alpha| exceeded settle_band.
     """
 
     description = "Seed 003 unified angle-of-attack equation driven by the nominal flight condition"

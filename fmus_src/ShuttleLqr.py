@@ -17,7 +17,8 @@ class ShuttleLqr(AotvSlave):
     At initialization it flies the nominal glide ahead of the measured state (a priori data,
     extraction A-22), and solves either the backward Riccati equation and forward co-state
     (method 0, Sec. 4.2) or the asymptotic multiple-time-scales solution (method 1, Sec. 4.3) from
-    the measured X(xi0); `literal` picks the asymptotic variant (guidance.shuttle_lqr.AsymptoticLqr). feedback 0 flies the optimal u*(xi) open loop, as the thesis does;
+    the measured X(xi0); `literal` picks the asymptotic variant (guidance.shuttle_lqr.AsymptoticLqr).
+    feedback 0 flies the optimal u*(xi) open loop, as the thesis does;
     feedback 1 applies u = -R^-1 B^T K^-1(xi) X with the measured X (beyond the thesis) until
     0.98 window. After the window: delta_e = f / mu (A-15). delta_e = (f - u) / mu (4.9).
     """

@@ -133,7 +133,8 @@ class Trajectory:
 def fly(h0: float = H_START, v0: float = V_HI, gamma0: float = GAMMA_START, dt: float = 0.5,
         h_stop: float = H_END, t_max: float = 4000.0, xi0: float = 0.0) -> Trajectory:
     """Fly the nominal glide from (h0 m, v0 m/s, gamma0 rad) by RK4 steps of dt (s), the schedule
-    and the bank held over each step as the AlphaBankVehicle FMU sees them, until h <= h_stop or t >= t_max."""
+    and the bank held over each step as the AlphaBankVehicle FMU sees them, until h <= h_stop or
+    t >= t_max."""
     cl_s = GENERIC.S / TRAJECTORY_MASS
     x = [PLANET.R_e + h0, 0.0, 0.0, v0, gamma0, 0.0]
     rows = []
