@@ -44,6 +44,7 @@ UNIT_EXPONENTS = {
     "kg": {"kg": 1},
     "1/s": {"s": -1},
     "1/s2": {"s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
 }
 
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}
