@@ -65,10 +65,15 @@ def speed(r, e, mu=sx2.MU_EARTH, r0=sx2.R_EARTH):
     return np.sqrt(2.0 * (e + mu / r - mu / r0))
 
 
+def q_s_over_m(r, e):
+    """q S / m of the SX-2 at radius r (m) and energy e (m^2/s^2), m/s^2 (eq. 7 without C)."""
+    v = speed(r, e)
+    return 0.5 * density(r) * v * v * sx2.S_REF / sx2.MASS
+
+
 def specific_lift_drag(r, e, alpha):
     """(L/m, D/m) in m/s^2 of the SX-2 at radius r (m), energy e (m^2/s^2), alpha (rad) (eq. 7)."""
-    v = speed(r, e)
-    q_s_m = 0.5 * density(r) * v * v * sx2.S_REF / sx2.MASS
+    q_s_m = q_s_over_m(r, e)
     return q_s_m * sx2.lift_coefficient(alpha), q_s_m * sx2.drag_coefficient(alpha)
 
 
