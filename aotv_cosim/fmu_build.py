@@ -33,6 +33,8 @@ RUNTIME_PATTERNS = ("*.py", "*.csv")
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+BUILD_FORMAT = "2: explicit variability"
+"""Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
 def fmus_src_dir() -> Path:
@@ -70,7 +72,7 @@ def _runtime_files():
 
 def source_hash(name: str) -> str:
     """SHA-256 over the FMU's module, the bundled runtime and the pythonfmu version."""
-    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\n".encode())
+    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n".encode())
     for path in [fmus_src_dir() / f"{name}.py", *_runtime_files()]:
         rel = path.relative_to(path.parents[1] if path.parent.name == "fmus_src" else PACKAGE_DIR.parent)
         digest.update(f"{rel.as_posix()}\n".encode())
@@ -165,9 +167,16 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
 
 
 def _reproducible_description(xml: bytes, digest: str) -> bytes:
-    """Drop the generation date and derive the GUID from the sources and the XML itself."""
+    """Drop the generation date, state every variability, derive the GUID from sources and XML.
+
+    pythonfmu leaves out the variability of inputs and outputs (FMI 2.0's default, continuous);
+    it is written out so that tools which do not apply the default still show it.
+    """
     root = ElementTree.fromstring(xml)
     root.attrib.pop("generationDateAndTime", None)
+    for var in root.iter("ScalarVariable"):
+        if "variability" not in var.attrib:
+            var.set("variability", "continuous" if var.find("Real") is not None else "discrete")
     root.set("guid", "")
     ElementTree.indent(root, space="  ")
     body = ElementTree.tostring(root, encoding="unicode")

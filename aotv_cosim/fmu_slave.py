@@ -43,6 +43,8 @@ UNIT_EXPONENTS = {
     "1/rad2": {"rad": -2},
     "m2": {"m": 2},
     "kg": {"kg": 1},
+    "1/s": {"s": -1},
+    "1/s2": {"s": -2},
 }
 
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}

@@ -17,7 +17,7 @@ from pathlib import Path, PurePosixPath
 from fmpy import read_model_description
 
 from aotv_cosim import fmu_build
-from aotv_cosim.documents import load_document
+from aotv_cosim.documents import check_document, load_document
 from aotv_cosim.errors import AotvError, InputError, raise_if_any
 
 
@@ -206,16 +206,23 @@ def check_value(var: Variable, value, *, file, entry):
 def load_system(path, overrides=None, overrides_file=None) -> System:
     """Load and validate a wiring file; `overrides` {'comp.var': value} take precedence.
 
-    overrides_file names where the overrides came from, for error messages.
+    overrides_file names where the overrides came from, for error messages. An .ssp archive
+    is read into the same document (aotv_cosim.ssp.load) and checked the same way.
     """
     path = Path(path).resolve()
-    doc = load_document(path, "wiring")
+    if path.suffix == ".ssp":
+        from aotv_cosim.ssp.load import read_ssp
+
+        doc, base, _ = read_ssp(path)
+        check_document(doc, "wiring", path)
+    else:
+        doc, base = load_document(path, "wiring"), path.parent
     problems = []
     components = {}
     for name, spec in doc["components"].items():
         entry = f"components.{name}.fmu"
         try:
-            fmu_path = resolve_fmu(spec["fmu"], path.parent)
+            fmu_path = resolve_fmu(spec["fmu"], base)
             info = read_fmu(fmu_path, file=path, entry=entry)
         except AotvError as exc:
             exc.file = exc.file or path

@@ -5,6 +5,7 @@ import subprocess
 import sys
 import textwrap
 import zipfile
+from xml.etree import ElementTree
 
 import pytest
 from fmpy import read_model_description
@@ -101,3 +102,12 @@ def test_vehicle_runs_where_aotv_cosim_is_not_installed(built, tmp_path):
                           capture_output=True, text=True, env={"PATH": os.environ["PATH"]})
     assert done.returncode == 0, done.stdout + done.stderr
     assert "clean run ok" in done.stdout
+
+
+def test_every_variable_states_causality_and_variability(built):
+    """Third-party tools show what the XML says: no attribute left to the FMI 2.0 defaults."""
+    for name, path in built.items():
+        with zipfile.ZipFile(path) as archive:
+            root = ElementTree.fromstring(archive.read("modelDescription.xml"))
+        for var in root.iter("ScalarVariable"):
+            assert {"causality", "variability", "description"} <= set(var.attrib), (name, var.attrib)
