@@ -35,6 +35,8 @@ class EntryTrackingGuidance(AotvSlave):
         p("omega2", 33.6, "1", "Crossrange pole frequency, units of 1/(mu/r0) (energy domain)")
         p("zeta2", 0.7, "1", "Crossrange pole damping")
         self.integer_parameter("integral_terms", 1, "1: include the integral feedback of eq. (49); 0: omit")
+        self.integer_parameter("inversion", 0, "Control recovery: 0 the paper's (52-54) with D = D~; 1 exact in "
+                                               "the drag at the commanded alpha (entry_tracking.drag_aware_controls)")
         p("eta", 0.5, "1", "Downrange weight of the constrained inversion, eq. (54)")
         p("alpha_width", 5.0 * deg, "rad", "Half-width of the alpha band around alpha_ref")
         p("alpha_min", 5.0 * deg, "rad", "Lowest alpha (validity of the polar fit)")
@@ -93,7 +95,7 @@ class EntryTrackingGuidance(AotvSlave):
         gains = law.gains(self.omega1, self.zeta1, self.omega2, self.zeta2)
         bands = law.Bands(self.alpha_width, self.alpha_min, self.alpha_max, self.sigma_width, self.sigma_max)
         cmd = law.command(x, e, x_ref, alpha_ref, sigma_ref, self._current_integrals(x, e), gains, bands,
-                          self.eta)
+                          self.eta, law.INVERSIONS[self.inversion])
         lift, drag = entry.specific_lift_drag(x_ref[0], e, alpha_ref)
         h_ref = x_ref[0] - sx2.R_EARTH
         self._out = {

@@ -112,3 +112,36 @@ def test_ideal_plant_errors_follow_the_designed_linear_ode(reference):
                        dense_output=True).sol(run.energy)[1]
     assert np.abs(run.errors[:, 0] - linear).max() < 0.10 * e1_0
     assert np.abs(run.errors[:, 1]).max() * sx2.R_EARTH / sx2.NMI < 1e-4
+
+
+def test_drag_aware_inversion_equals_the_paper_at_the_reference_drag(reference):
+    """At D = D~ the exact lift vector D p - n is the paper's b^-1 (w - a) (eq. 52), and on the
+    reference (w = w_ref) the exact inversion returns u_ref: alpha_ref, sigma_ref."""
+    e = 3e7 * FT2
+    x_ref, (alpha, sigma) = reference.state(e), reference.controls(e)
+    x = x_ref + np.array([300.0, 1e-4, -2e-4, 1e-3, 2e-3])
+    c, ref = law.coordinates((x, x_ref), e, alpha, sigma)
+    g = law.gains(26.9, 0.7, 26.9, 0.7)
+    w = law.pseudo_controls(c, ref, law.reference_lift(x_ref, e, alpha, sigma), (0.0, 0.0), g)
+    d_tilde = law.drag_tilde(x[0], e, alpha)
+    p, n = law.drag_aware_lift(c, w, d_tilde)
+    np.testing.assert_allclose(d_tilde * p - n, law.required_lift(c, w), rtol=1e-10)
+    bands = study.Design().bands
+    cmd = law.command(x_ref, e, x_ref, alpha, sigma, (0.0, 0.0), g, bands, 0.5, "drag_aware")
+    assert (cmd.alpha, cmd.sigma, cmd.constrained) == (pytest.approx(alpha, abs=1e-9),
+                                                       pytest.approx(sigma, abs=1e-9), False)
+
+
+def test_drag_aware_controls_solve_lift_and_drag_together():
+    """A lift vector built from (alpha0, sigma0) with the drag at alpha0 is recovered exactly; the
+    same demand read with D = D~ (the paper) would give a different alpha."""
+    q_s_m, alpha0, sigma0 = 20.0, math.radians(17.0), math.radians(25.0)
+    lift, drag = q_s_m * sx2.lift_coefficient(alpha0), q_s_m * sx2.drag_coefficient(alpha0)
+    n = np.array([1.5, -0.4])
+    p = (lift * np.array([math.cos(sigma0), math.sin(sigma0)]) + n) / drag
+    band = (math.radians(12.0), math.radians(22.0))
+    alpha, sigma, constrained = law.drag_aware_controls(p, n, q_s_m, band, (-1.4, 1.4), 0.5, alpha0)
+    assert not constrained
+    assert (alpha, sigma) == (pytest.approx(alpha0, abs=1e-10), pytest.approx(sigma0, abs=1e-10))
+    alpha, sigma, constrained = law.drag_aware_controls(p, n, q_s_m, band, (0.5, 1.4), 0.5, alpha0)
+    assert constrained and sigma == pytest.approx(0.5, abs=1e-6)

@@ -90,14 +90,15 @@ def outputs_rates(x, e, alpha_ref, sigma_ref):
 
 
 def _directions(x, e, alpha_ref):
-    """Columns (dx, dE) of the model field: drift with Lc = Ls = 0, and per unit Lc and Ls."""
+    """Columns (dx, dE) of the model field: drift with Lc = Ls = 0, per unit Lc and Ls, and the
+    explicit energy direction (0, 1) (the part of the drift that does not scale with 1/D)."""
     r, gamma = x[0], x[3]
     d_tilde = drag_tilde(r, e, alpha_ref)
     drift = entry.energy_derivatives(x, e, 0.0, 0.0, d_tilde)
     v2 = 2.0 * (e + sx2.MU_EARTH / r - sx2.MU_EARTH / sx2.R_EARTH)
     per_lc = (0.0, 0.0, 0.0, -1.0 / (d_tilde * v2), 0.0)
     per_ls = (0.0, 0.0, 0.0, 0.0, -1.0 / (d_tilde * v2 * np.cos(gamma)))
-    return np.array([(*drift, 1.0), (*per_lc, 0.0), (*per_ls, 0.0)]).T
+    return np.array([(*drift, 1.0), (*per_lc, 0.0), (*per_ls, 0.0), (0.0,) * 5 + (1.0,)]).T
 
 
 @dataclass(frozen=True)
@@ -111,6 +112,9 @@ class Coordinates:
     y2p: float
     a: np.ndarray
     b: np.ndarray
+    a_energy: np.ndarray
+    """(d phi12/dE, d phi21/dE) at fixed state: the part of a that does not scale with 1/D (every
+    state rate of eqs. 10-15 is proportional to 1/D, the explicit E dependence is not)."""
 
 
 def coordinates(states, e, alpha_ref, sigma_ref):
@@ -122,14 +126,15 @@ def coordinates(states, e, alpha_ref, sigma_ref):
     """
     states = np.asarray(states, float)
     columns = np.hstack([_directions(x, e, alpha_ref) for x in states])
-    base = np.repeat(np.column_stack([states, np.full(len(states), e)]).T, 3, axis=1)
+    base = np.repeat(np.column_stack([states, np.full(len(states), e)]).T, 4, axis=1)
     z = base + 1j * STEP * columns
     j11, j12, j21 = outputs_rates(z[:5], z[5], alpha_ref, sigma_ref)
     d12, d21 = np.imag(j12) / STEP, np.imag(j21) / STEP
     return [Coordinates(x[1], j11[k].real, j12[k].real, x[2], j21[k].real,
                         np.array([d12[k], d21[k]]),
-                        np.array([[d12[k + 1], d12[k + 2]], [d21[k + 1], d21[k + 2]]]))
-            for x, k in zip(states, range(0, 3 * len(states), 3))]
+                        np.array([[d12[k + 1], d12[k + 2]], [d21[k + 1], d21[k + 2]]]),
+                        np.array([d12[k + 3], d21[k + 3]]))
+            for x, k in zip(states, range(0, 4 * len(states), 4))]
 
 
 def reference_lift(x_ref, e, alpha_ref, sigma_ref):
@@ -190,6 +195,63 @@ def constrained_lift(a_req, b_req, lift_lo, lift_hi, sigma_lo, sigma_hi, eta):
     return best_lift(best), best, True
 
 
+def drag_aware_lift(c: Coordinates, w, d_tilde):
+    """(p, n): the lift vector (Lc, Ls) giving (y1''', y2'') = w on a plant with drag D is D p - n.
+
+    Exact in D (no D = D~ approximation): every state rate of eqs. (10-15) is F(x, Lc, Ls) / D, so
+    along the true field (y1''', y2'') = a_E + (D~ / D) (a - a_E + b (Lc, Ls)), a_E the explicit
+    energy part; solving for (Lc, Ls) gives p = b^-1 (w - a_E) / D~ (1/1) and n = b^-1 (a - a_E)
+    (m/s^2). At D = D~ this is the paper's (Lc, Ls) = b^-1 (w - a).
+    """
+    m = np.linalg.solve(c.b, np.column_stack([w - c.a_energy, c.a - c.a_energy]))
+    return m[:, 0] / d_tilde, m[:, 1]
+
+
+def _weighted_miss(lift_vector, target, eta):
+    return eta * (lift_vector[0] - target[0]) ** 2 + (1.0 - eta) * (lift_vector[1] - target[1]) ** 2
+
+
+def drag_aware_controls(p, n, q_s_m, alpha_band, sigma_band, eta, alpha_guess):
+    """(alpha, sigma, constrained) of the exact inversion L(alpha) (cos sigma, sin sigma) = D(alpha) p - n.
+
+    With drag D(alpha) = q S C_D(alpha) / m the requirement is one scalar equation in alpha,
+    |D(alpha) p - n| = L(alpha), then sigma = atan2. Its roots in the alpha band are bracketed on a
+    41-point grid and refined (brentq); the root nearest alpha_guess is taken when its sigma lies in
+    the bank band. Otherwise the constrained problem (54) is solved in the units of the dynamics
+    (the rates scale with the lift vector over D): minimize [eta (Lc - A)^2 + (1 - eta)(Ls - B)^2]
+    / D(alpha)^2 over the alpha band (grid, then bounded refinement) and the bank band
+    (`constrained_lift` with the lift fixed at L(alpha)). q_s_m in m/s^2, angles in rad.
+    """
+    from scipy.optimize import brentq, minimize_scalar
+
+    target = lambda a: q_s_m * sx2.drag_coefficient(a) * p - n
+    mismatch = lambda a: math.hypot(*target(a)) - q_s_m * sx2.lift_coefficient(a)
+    grid = np.linspace(*alpha_band, 41)
+    values = [mismatch(a) for a in grid]
+    roots = [brentq(mismatch, a0, a1, xtol=1e-12) for a0, a1, f0, f1 in
+             zip(grid[:-1], grid[1:], values[:-1], values[1:]) if f0 * f1 <= 0.0 and f0 != f1]
+    if roots:
+        alpha = min(roots, key=lambda a: abs(a - alpha_guess))
+        sigma = math.atan2(target(alpha)[1], target(alpha)[0])
+        if sigma_band[0] <= sigma <= sigma_band[1]:
+            return alpha, sigma, False
+
+    def best(a):
+        lift, goal = q_s_m * sx2.lift_coefficient(a), target(a)
+        sigma = constrained_lift(*goal, lift, lift, *sigma_band, eta)[1]
+        miss = _weighted_miss((lift * math.cos(sigma), lift * math.sin(sigma)), goal, eta)
+        return miss / (q_s_m * sx2.drag_coefficient(a)) ** 2, sigma
+
+    k = int(np.argmin([best(a)[0] for a in grid]))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    candidates = [grid[k]]
+    if hi > lo:
+        candidates.append(float(minimize_scalar(lambda a: best(a)[0], bounds=(lo, hi), method="bounded",
+                                                options={"xatol": 1e-10}).x))
+    alpha = min(candidates, key=lambda a: best(a)[0])
+    return alpha, best(alpha)[1], True
+
+
 @dataclass(frozen=True)
 class Bands:
     """Control bands: alpha_ref +- alpha_width within [alpha_min, alpha_max]; sigma_ref +- sigma_width
@@ -221,17 +283,28 @@ class Command:
     sigma_band: tuple
 
 
-def command(x, e, x_ref, alpha_ref, sigma_ref, integrals, g: Gains, bands: Bands, eta) -> Command:
+INVERSIONS = ("paper", "drag_aware")
+"""Control recovery: "paper" = eqs. (52-54) with D = D~ (the law's own model); "drag_aware" = the
+exact inversion of the same coordinates on the true plant, drag at the commanded alpha
+(`drag_aware_controls`)."""
+
+
+def command(x, e, x_ref, alpha_ref, sigma_ref, integrals, g: Gains, bands: Bands, eta,
+            inversion="paper") -> Command:
     """The tracking law: state x and reference x_ref at energy e -> (alpha, sigma) command.
 
     x, x_ref: (r, theta, phi, gamma, chi) in m and rad; e in m^2/s^2; integrals as in
-    `pseudo_controls`; eta: the downrange weight of eq. (54).
+    `pseudo_controls`; eta: the downrange weight of eq. (54); inversion: one of INVERSIONS.
     """
     c, ref = coordinates((x, x_ref), e, alpha_ref, sigma_ref)
     w = pseudo_controls(c, ref, reference_lift(x_ref, e, alpha_ref, sigma_ref), integrals, g)
-    a_req, b_req = required_lift(c, w)
     alpha_band, sigma_band = bands.alpha(alpha_ref), bands.sigma(sigma_ref)
     q_s_m = entry.q_s_over_m(x[0], e)
+    if inversion == "drag_aware":
+        p, n = drag_aware_lift(c, w, drag_tilde(x[0], e, alpha_ref))
+        alpha, sigma, constrained = drag_aware_controls(p, n, q_s_m, alpha_band, sigma_band, eta, alpha_ref)
+        return Command(float(alpha), float(sigma), constrained, alpha_band, sigma_band)
+    a_req, b_req = required_lift(c, w)
     lift_lo, lift_hi = (q_s_m * sx2.lift_coefficient(a) for a in alpha_band)
     lift, sigma, constrained = constrained_lift(a_req, b_req, lift_lo, lift_hi, *sigma_band, eta)
     alpha = sx2.alpha_from_lift_coefficient(lift / q_s_m)

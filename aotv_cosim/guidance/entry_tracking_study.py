@@ -37,7 +37,8 @@ PERTURBATIONS = {
 
 @dataclass(frozen=True)
 class Design:
-    """Tunable choices of the law (none is given by the paper): poles, bands, eta."""
+    """Tunable choices of the law (none is given by the paper): poles, bands, eta, integral terms,
+    control recovery (`entry_tracking.INVERSIONS`)."""
 
     omega1: float = 33.6
     zeta1: float = 0.7
@@ -47,6 +48,7 @@ class Design:
         5.0 * DEG, 5.0 * DEG, 25.0 * DEG, 90.0 * DEG, 80.0 * DEG))
     eta: float = 0.5
     integral: bool = True
+    inversion: str = "paper"
 
     def gains(self) -> law.Gains:
         g = law.gains(self.omega1, self.zeta1, self.omega2, self.zeta2)
@@ -88,7 +90,8 @@ def simulate(perturbation, plant="full", design=Design(), reference=None, step=5
     def control(e, y):
         x_ref = reference.state(e)
         alpha_ref, sigma_ref = reference.controls(e)
-        return law.command(y[:5], e, x_ref, alpha_ref, sigma_ref, y[5:], g, design.bands, design.eta), x_ref
+        return law.command(y[:5], e, x_ref, alpha_ref, sigma_ref, y[5:], g, design.bands, design.eta,
+                           design.inversion), x_ref
 
     def rates(e, y):
         cmd, x_ref = control(e, y)
