@@ -25,16 +25,16 @@ NOMINAL_BOUND_NMI = 0.35
 (zero-order hold of density and commands over the step). Measured downrange -0.329 n mi at
 0.1 s and -0.166 n mi at 0.05 s (first order in the step, -> 0 with it); crossrange -0.013."""
 FULL_MEASURED_NMI = {
-    "nominal": (-0.503, -0.020), "r_plus": (-8.864, 4.722), "r_minus": (-27.530, 6.448),
-    "theta_plus": (1.385, -0.872), "theta_minus": (-3.243, 1.127),
-    "phi_plus": (-224.780, -10.141), "phi_minus": (-436.570, -37.666),
-    "v_plus": (-228.487, -13.225), "v_minus": (-446.088, -40.828),
-    "gamma_plus": (2.960, -0.980), "gamma_minus": (-19.439, 5.105),
-    "chi_plus": (-4.837, 1.691), "chi_minus": (-0.429, 0.043), "combined": (8.285, -4.936),
+    "nominal": (-0.681, -0.154), "r_plus": (-15.951, 8.802), "r_minus": (-7.986, -3.426),
+    "theta_plus": (0.815, -0.459), "theta_minus": (-2.311, 0.230), "phi_plus": (-40.421, -7.102),
+    "phi_minus": (-32.954, 11.008), "v_plus": (-3.930, -4.126), "v_minus": (-409.342, -55.516),
+    "gamma_plus": (-9.089, 5.616), "gamma_minus": (-2.515, -2.581), "chi_plus": (-2.046, -1.214),
+    "chi_minus": (-1.042, 1.393), "combined": (1.278, -0.200),
 }
-"""Full plant (drag at the commanded alpha), design of systems/entry_tracking_full.json: final
-(downrange, crossrange) errors in n mi measured at 0.1 s (docs/seed002.md). The paper's < 1 n mi
-is not reached; these figures are the regression values."""
+"""Full plant (drag at the commanded alpha), design of systems/entry_tracking_full.json (omega 20,
+zeta 0.7, no integral terms, the paper's inversion): final (downrange, crossrange) errors in n mi
+measured at 0.1 s (docs/seed002.md, full-plant study). The paper's < 1 n mi is not reached; these
+figures are the regression values."""
 FULL_TOLERANCE = (0.1, 0.05)
 """Full-plant regression tolerance: max(0.1 n mi, 5 % of the figure)."""
 RECORD = ["vehicle.h", "vehicle.mach", "vehicle.drag_acc", "vehicle.downrange", "vehicle.crossrange",
