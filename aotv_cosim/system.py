@@ -122,22 +122,31 @@ class System:
         return order
 
 
-def resolve_fmu(ref: str, base: Path) -> Path:
+def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
     """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
     if ref.endswith(".fmu"):
         return (base / ref).resolve()
+    if ref not in fmu_build.available_fmus():
+        raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
+                         fix=f"use one of {', '.join(fmu_build.available_fmus())} "
+                             "or a path to a .fmu file (relative to the wiring file)")
     return fmu_build.ensure_fmu(ref)
 
 
-def check_archive(path: Path) -> None:
-    """Refuse an FMU archive whose member names are absolute or climb out with '..'."""
+def check_archive(path: Path, *, file=None, entry=None) -> None:
+    """Refuse an FMU or SSP archive whose member names are absolute or climb out with '..'.
+
+    The error names `file` and `entry` (the document that refers to the archive) when given,
+    else the archive itself. A file that is not a zip archive raises zipfile.BadZipFile.
+    """
     with zipfile.ZipFile(path) as archive:
         for name in archive.namelist():
             pure = PurePosixPath(name.replace("\\", "/"))
             drive = bool(pure.parts) and ":" in pure.parts[0]
             if pure.is_absolute() or ".." in pure.parts or drive:
-                raise InputError(f"archive member {name!r} escapes the extraction folder", file=path,
-                                 fix="rebuild the FMU with relative member names")
+                raise InputError(f"member {name!r} of {Path(path).name} escapes the extraction folder",
+                                 file=file or path, entry=entry,
+                                 fix="rebuild the archive with relative member names")
 
 
 def read_fmu(path: Path, *, file, entry) -> FmuInfo:
@@ -146,10 +155,9 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
         raise InputError(f"FMU file not found: {path}", file=file, entry=entry,
                          fix="correct the path (relative to the wiring file) or build the FMU")
     try:
-        check_archive(path)
+        check_archive(path, file=file, entry=entry)
         md = read_model_description(str(path))
-    except InputError as exc:
-        exc.entry = entry
+    except InputError:
         raise
     except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
         raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
@@ -188,7 +196,7 @@ def parse_connection(text: str) -> Connection:
 def check_value(var: Variable, value, *, file, entry):
     """Problems with giving `value` to variable `var` (type, finiteness, causality)."""
     if var.causality not in ("parameter", "input"):
-        return [InputError(f"{var.name} is an {var.causality}, it cannot be given a value",
+        return [InputError(f"{var.name} is {_a(var.causality)} {var.causality}, it cannot be given a value",
                            file=file, entry=entry, fix="set a parameter or an unconnected input")]
     ok = {"Real": isinstance(value, (int, float)) and not isinstance(value, bool),
           "Integer": isinstance(value, int) and not isinstance(value, bool),
@@ -196,11 +204,16 @@ def check_value(var: Variable, value, *, file, entry):
           "String": isinstance(value, str)}.get(var.type, False)
     if not ok:
         return [InputError(f"{var.name} is {var.type}, got {value!r}", file=file, entry=entry,
-                           fix=f"give a {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
+                           fix=f"give {_a(var.type)} {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
     if var.type == "Real" and not math.isfinite(value):
         return [InputError(f"{var.name} must be finite, got {value!r}", file=file, entry=entry,
                            fix="give a finite number")]
     return []
+
+
+def _a(word: str) -> str:
+    """The indefinite article for `word` ('an output', 'a parameter')."""
+    return "an" if word[:1].lower() in "aeiou" else "a"
 
 
 def load_system(path, overrides=None, overrides_file=None) -> System:
@@ -215,7 +228,7 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
     for name, spec in doc["components"].items():
         entry = f"components.{name}.fmu"
         try:
-            fmu_path = resolve_fmu(spec["fmu"], path.parent)
+            fmu_path = resolve_fmu(spec["fmu"], path.parent, file=path, entry=entry)
             info = read_fmu(fmu_path, file=path, entry=entry)
         except AotvError as exc:
             exc.file = exc.file or path
@@ -282,7 +295,7 @@ def _check_connection(conn, components, file, entry):
         actual = components[comp].fmu.variables[var].causality
         if actual != causality:
             side = "source" if causality == "output" else "target"
-            problems.append(InputError(f"{comp}.{var} is an {actual}, the {side} must be an {causality}",
+            problems.append(InputError(f"{comp}.{var} is {_a(actual)} {actual}, the {side} must be an {causality}",
                                        file=file, entry=entry, fix="connect an output to an input"))
     if problems:
         return problems
