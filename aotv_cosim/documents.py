@@ -56,6 +56,13 @@ def _finite_float(text):
     return value
 
 
+def _float_sized_int(text):
+    value = int(text)
+    if abs(value) > 1.7976931348623157e308:
+        raise _Refused(f"{text[:20]}{'...' if len(text) > 20 else ''} is too large for a float", token=text)
+    return value
+
+
 def _no_duplicates(pairs):
     keys = [k for k, _ in pairs]
     duplicated = sorted({k for k in keys if keys.count(k) > 1})
@@ -65,9 +72,9 @@ def _no_duplicates(pairs):
 
 
 def strict_json(text: str):
-    """json.loads refusing NaN, Infinity, float overflow and duplicate keys (ValueError)."""
+    """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys (ValueError)."""
     return json.loads(text, parse_constant=_refuse_constant, parse_float=_finite_float,
-                      object_pairs_hook=_no_duplicates)
+                      parse_int=_float_sized_int, object_pairs_hook=_no_duplicates)
 
 
 def _where(text, token):

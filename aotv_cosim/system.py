@@ -186,10 +186,14 @@ def _dependencies(unknowns, inputs):
     return deps
 
 
-def parse_connection(text: str) -> Connection:
-    left, right = (s.strip() for s in text.split("->"))
-    source, output = left.split(".", 1)
-    target, inp = right.split(".", 1)
+def parse_connection(text: str, *, file=None, entry=None) -> Connection:
+    """'source.output -> target.input' (as the schema checked it) -> Connection."""
+    sides = [s.strip() for s in text.split("->")]
+    if len(sides) != 2 or not all("." in side for side in sides):
+        raise InputError(f"cannot read connection {text!r}", file=file, entry=entry,
+                         fix="write one 'source.output -> target.input' per entry")
+    source, output = sides[0].split(".", 1)
+    target, inp = sides[1].split(".", 1)
     return Connection(source, output, target, inp)
 
 
@@ -208,6 +212,9 @@ def check_value(var: Variable, value, *, file, entry):
     if var.type == "Real" and not math.isfinite(value):
         return [InputError(f"{var.name} must be finite, got {value!r}", file=file, entry=entry,
                            fix="give a finite number")]
+    if var.type == "Integer" and not -2**31 <= value < 2**31:
+        return [InputError(f"{var.name} is a 32-bit Integer, got {value}", file=file, entry=entry,
+                           fix="give an integer between -2147483648 and 2147483647")]
     return []
 
 
@@ -257,9 +264,14 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
 
     connections = []
     for k, text in enumerate(doc["connections"]):
-        conn = parse_connection(text)
+        entry = f"connections[{k}] '{text}'"
+        try:
+            conn = parse_connection(text, file=path, entry=entry)
+        except InputError as exc:
+            problems.append(exc)
+            continue
         connections.append(conn)
-        problems += _check_connection(conn, components, path, f"connections[{k}] '{text}'")
+        problems += _check_connection(conn, components, path, entry)
     raise_if_any(problems)
 
     system = System(path, components, connections)
