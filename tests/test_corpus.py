@@ -89,3 +89,35 @@ def test_a_real_process_prints_one_line(name, tmp_path):
     debug = subprocess.run(args[:3] + ["--debug"] + args[3:], capture_output=True, text=True, cwd=ROOT,
                            env=env, timeout=120)
     assert debug.returncode != 0 and "Traceback" in debug.stderr
+
+
+def _properties(node, where="#"):
+    """(location, schema) of every property declared anywhere inside a schema."""
+    if isinstance(node, dict):
+        for name, sub in node.get("properties", {}).items():
+            yield f"{where}/properties/{name}", sub
+        for key, sub in node.items():
+            yield from _properties(sub, f"{where}/{key}")
+    elif isinstance(node, list):
+        for k, sub in enumerate(node):
+            yield from _properties(sub, f"{where}/{k}")
+
+
+@pytest.mark.parametrize("kind", ["scenario", "wiring"])
+def test_schemas_serve_editors(kind):
+    """Valid 2020-12 schemas with $id, title and a description on every property; every shipped
+    file of that kind names its schema in "$schema" by a path that exists."""
+    import jsonschema
+
+    from aotv_cosim.documents import schema
+
+    doc = schema(kind)
+    jsonschema.Draft202012Validator.check_schema(doc)
+    assert doc["$id"].endswith(f"{kind}.schema.json") and doc["title"] and doc["description"]
+    undocumented = [where for where, sub in _properties(doc) if "description" not in sub]
+    assert not undocumented
+    shipped = sorted((ROOT / "scenarios").glob("*.json" if kind == "scenario" else "systems/*.json"))
+    assert shipped
+    for path in shipped:
+        ref = json.loads(path.read_text())["$schema"]
+        assert (path.parent / ref).resolve() == ROOT / "aotv_cosim" / "schemas" / f"{kind}.schema.json", path
