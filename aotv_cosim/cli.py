@@ -1,4 +1,4 @@
-"""The `aotv-cosim` command: run, check, validate, build-fmus.
+"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp, compare.
 
 Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
 exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
@@ -261,5 +261,46 @@ def build_fmus(out):
     def body():
         for name, path in fmu_build.build_all(out).items():
             click.echo(f"{name}: {path}")
+
+    _guard(body)
+
+
+@main.command("export-ssp")
+@click.argument("scenario", type=click.Path(dir_okay=False))
+@click.option("-o", "--out", "out", required=True, type=click.Path(dir_okay=False),
+              help="The .ssp archive to write.")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
+def export_ssp(scenario, out, sets, step):
+    """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
+    from aotv_cosim.scenario import load_scenario, parse_sets
+    from aotv_cosim.ssp.export import export_ssp as write_ssp
+
+    def body():
+        loaded = load_scenario(scenario, parse_sets(sets), step)
+        path = write_ssp(loaded, out)
+        click.echo(f"{path}: {len(loaded.system.components)} components, "
+                   f"{len(loaded.system.connections)} connections, "
+                   f"{loaded.start:g}..{loaded.stop:g} s by {loaded.step:g} s")
+
+    _guard(body)
+
+
+@main.command()
+@click.argument("comparison", default="scenarios/aotv_compare.json", type=click.Path(dir_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<comparison>].")
+@click.option("--no-plots", is_flag=True, help="Skip the overlaid plots.")
+def compare(comparison, out, no_plots):
+    """Fly every guidance law of COMPARISON [scenarios/aotv_compare.json] through the same
+    (dispersed) atmosphere; write comparison.csv and comparison.png, print the table."""
+    from aotv_cosim.compare import format_table, load_comparison, run_comparison
+
+    def body():
+        loaded = load_comparison(comparison)
+        out_dir = Path(out) if out else DEFAULT_OUT / Path(comparison).stem
+        table = run_comparison(loaded, out_dir, progress=lambda law: click.echo(f"flying {law}", err=True),
+                               make_plots=not no_plots)
+        click.echo(format_table(table))
+        click.echo(f"table in {out_dir / 'comparison.csv'}")
 
     _guard(body)

@@ -14,7 +14,8 @@ import jsonschema
 
 from aotv_cosim.errors import InputError, raise_if_any
 
-SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json"}
+SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
+           "compare": "compare.schema.json"}
 
 _FIXES = {
     "required": "add the missing field",
@@ -109,10 +110,15 @@ def load_document(path, kind: str) -> dict:
                          fix="use finite numbers and unique keys (omit an entry to keep its default)")
     except RecursionError:
         raise InputError("invalid JSON: nested too deeply", file=path, fix="flatten the document")
+    check_document(doc, kind, path)
+    return doc
+
+
+def check_document(doc: dict, kind: str, path) -> None:
+    """Validate a parsed document against the `kind` schema; errors name `path` and the entry."""
     validator = jsonschema.Draft202012Validator(schema(kind))
     errors = sorted(validator.iter_errors(doc), key=lambda e: list(map(str, e.absolute_path)))
     raise_if_any([_schema_problem(e, path) for e in errors])
-    return doc
 
 
 def _schema_problem(error, path) -> InputError:

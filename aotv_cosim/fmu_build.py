@@ -25,11 +25,16 @@ from pythonfmu.builder import FmuBuilder
 from aotv_cosim.errors import BuildError
 
 PACKAGE_DIR = Path(__file__).resolve().parent
-RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "guidance_slave.py", "physics", "guidance")
+RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "guidance_slave.py", "vehicle_slave.py",
+           "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
+RUNTIME_PATTERNS = ("*.py", "*.csv")
+"""Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+BUILD_FORMAT = "2: explicit variability"
+"""Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
 def fmus_src_dir() -> Path:
@@ -59,14 +64,15 @@ def _runtime_files():
     for entry in RUNTIME:
         path = PACKAGE_DIR / entry
         if path.is_dir():
-            yield from sorted(p for p in path.rglob("*.py") if "__pycache__" not in p.parts)
+            yield from sorted(p for pattern in RUNTIME_PATTERNS for p in path.rglob(pattern)
+                              if "__pycache__" not in p.parts)
         else:
             yield path
 
 
 def source_hash(name: str) -> str:
     """SHA-256 over the FMU's module, the bundled runtime and the pythonfmu version."""
-    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\n".encode())
+    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n".encode())
     for path in [fmus_src_dir() / f"{name}.py", *_runtime_files()]:
         rel = path.relative_to(path.parents[1] if path.parent.name == "fmus_src" else PACKAGE_DIR.parent)
         digest.update(f"{rel.as_posix()}\n".encode())
@@ -161,9 +167,16 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
 
 
 def _reproducible_description(xml: bytes, digest: str) -> bytes:
-    """Drop the generation date and derive the GUID from the sources and the XML itself."""
+    """Drop the generation date, state every variability, derive the GUID from sources and XML.
+
+    pythonfmu leaves out the variability of inputs and outputs (FMI 2.0's default, continuous);
+    it is written out so that tools which do not apply the default still show it.
+    """
     root = ElementTree.fromstring(xml)
     root.attrib.pop("generationDateAndTime", None)
+    for var in root.iter("ScalarVariable"):
+        if "variability" not in var.attrib:
+            var.set("variability", "continuous" if var.find("Real") is not None else "discrete")
     root.set("guid", "")
     ElementTree.indent(root, space="  ")
     body = ElementTree.tostring(root, encoding="unicode")

@@ -26,6 +26,7 @@ UNIT_EXPONENTS = {
     "m/s": {"m": 1, "s": -1},
     "m/s2": {"m": 1, "s": -2},
     "m/s3": {"m": 1, "s": -3},
+    "m2/s2": {"m": 2, "s": -2},
     "m2/s3": {"m": 2, "s": -3},
     "m3/s2": {"m": 3, "s": -2},
     "s": {"s": 1},
@@ -38,6 +39,13 @@ UNIT_EXPONENTS = {
     "W/m2": {"kg": 1, "s": -3},
     "kg/(s.m)": {"kg": 1, "m": -1, "s": -1},
     "1/m": {"m": -1},
+    "1/rad": {"rad": -1},
+    "1/rad2": {"rad": -2},
+    "m2": {"m": 2},
+    "kg": {"kg": 1},
+    "1/s": {"s": -1},
+    "1/s2": {"s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
 }
 
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}
@@ -125,7 +133,7 @@ class AotvSlave(Fmi2Slave):
         for node in root.find("ModelVariables"):
             unit = self._units.get(node.get("name"))
             real = node.find("Real")
-            if unit and unit != "1":
+            if unit:
                 real.set("unit", unit)
             if real is not None and real.get("start") in XSD_SPECIAL:
                 real.set("start", XSD_SPECIAL[real.get("start")])
@@ -153,7 +161,7 @@ class AotvSlave(Fmi2Slave):
 
     def _unit_definitions(self):
         definitions = Element("UnitDefinitions")
-        for unit in sorted(set(self._units.values()) - {"1"}):
+        for unit in sorted(set(self._units.values())):
             node = SubElement(definitions, "Unit", name=unit)
             SubElement(node, "BaseUnit", {k: str(v) for k, v in UNIT_EXPONENTS[unit].items()})
         return definitions

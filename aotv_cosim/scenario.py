@@ -70,9 +70,17 @@ def parse_sets(pairs, origin="--set") -> dict:
 
 
 def load_scenario(path, sets=None, step=None) -> Scenario:
-    """Load a scenario; `sets` ({'comp.var': value}, from --set) and `step` override the file."""
+    """Load a scenario; `sets` ({'comp.var': value}, from --set) and `step` override the file.
+
+    An .ssp archive is a scenario too: its system over its default experiment.
+    """
     path = Path(path).resolve()
-    doc = load_document(path, "scenario")
+    if path.suffix == ".ssp":
+        from aotv_cosim.ssp.load import scenario_document
+
+        doc = scenario_document(path, step_given=step is not None)
+    else:
+        doc = load_document(path, "scenario")
     system_path = (path.parent / doc["system"]).resolve()
     if not system_path.is_file():
         problem = "is a folder" if system_path.is_dir() else "not found"

@@ -9,6 +9,7 @@ output depends on the density input does not form a loop with the atmosphere who
 depends on the vehicle's altitude: only chains of same-instant dependencies do.
 """
 
+import difflib
 import math
 import zipfile
 from dataclasses import dataclass, field
@@ -17,7 +18,7 @@ from pathlib import Path, PurePosixPath
 from fmpy import read_model_description
 
 from aotv_cosim import fmu_build
-from aotv_cosim.documents import load_document
+from aotv_cosim.documents import check_document, load_document
 from aotv_cosim.errors import AotvError, InputError, raise_if_any
 
 
@@ -126,10 +127,13 @@ def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
     """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
     if ref.endswith(".fmu"):
         return (base / ref).resolve()
-    if ref not in fmu_build.available_fmus():
+    names = fmu_build.available_fmus()
+    if ref not in names:
+        close = difflib.get_close_matches(ref, names, n=3)
+        hint = f"did you mean {' or '.join(close)}? " if close else ""
         raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
-                         fix=f"use one of {', '.join(fmu_build.available_fmus())} "
-                             "or a path to a .fmu file (relative to the wiring file)")
+                         fix=f"{hint}give a path to a .fmu file (relative to the wiring file) "
+                             f"or one of {', '.join(names)}")
     return fmu_build.ensure_fmu(ref)
 
 
@@ -226,16 +230,23 @@ def _a(word: str) -> str:
 def load_system(path, overrides=None, overrides_file=None) -> System:
     """Load and validate a wiring file; `overrides` {'comp.var': value} take precedence.
 
-    overrides_file names where the overrides came from, for error messages.
+    overrides_file names where the overrides came from, for error messages. An .ssp archive
+    is read into the same document (aotv_cosim.ssp.load) and checked the same way.
     """
     path = Path(path).resolve()
-    doc = load_document(path, "wiring")
+    if path.suffix == ".ssp":
+        from aotv_cosim.ssp.load import read_ssp
+
+        doc, base, _ = read_ssp(path)
+        check_document(doc, "wiring", path)
+    else:
+        doc, base = load_document(path, "wiring"), path.parent
     problems = []
     components = {}
     for name, spec in doc["components"].items():
         entry = f"components.{name}.fmu"
         try:
-            fmu_path = resolve_fmu(spec["fmu"], path.parent, file=path, entry=entry)
+            fmu_path = resolve_fmu(spec["fmu"], base, file=path, entry=entry)
             info = read_fmu(fmu_path, file=path, entry=entry)
         except AotvError as exc:
             exc.file = exc.file or path
@@ -289,9 +300,11 @@ def _unknown_component(name, components, file, entry):
 def _check_known(comp, var, file, entry):
     if var in comp.fmu.variables:
         return []
-    names = [v for v in comp.fmu.variables]
-    return [InputError(f"{comp.fmu.path.name} has no variable {var!r}", file=file, entry=entry,
-                       fix=f"use one of {', '.join(names)}")]
+    names = list(comp.fmu.variables)
+    close = difflib.get_close_matches(var, names, n=3)
+    hint = f"did you mean {' or '.join(close)}? " if close else ""
+    return [InputError(f"{comp.name} ({Path(comp.fmu_ref).name}) has no variable {var!r}", file=file, entry=entry,
+                       fix=f"{hint}its variables are {', '.join(names)}")]
 
 
 def _check_connection(conn, components, file, entry):

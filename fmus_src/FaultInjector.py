@@ -3,8 +3,8 @@
 Inserted into a connection (``a.x -> fault.u``, ``fault.y -> b.x``) it makes the master's fault
 handling testable: from the first step that ends after `fault_time` (s) it raises inside
 ``do_step`` (fault_kind 1), returns an error status from ``do_step`` after logging why (2), or
-outputs NaN (3) or +infinity (4). fault_kind 0 never faults. u and y are dimensionless ("1")
-so the injector can sit on a signal of any unit; the signal keeps the unit of its source.
+outputs NaN (3) or +infinity (4). fault_kind 0 never faults. u and y are lift-acceleration
+commands (m/s^2): the injector sits between a guidance law and its actuator.
 """
 
 import math
@@ -25,8 +25,8 @@ class FaultInjector(AotvSlave):
         super().__init__(**kwargs)
         self.integer_parameter("fault_kind", 0, "0 none, 1 raise, 2 error status, 3 NaN, 4 inf")
         self.parameter("fault_time", 1.0, "s", "Faults from the first step ending after this time")
-        self.input("u", 0.0, "1", "Signal passed through (any unit)")
-        self.output("y", "1", "u, or the injected NaN/inf once faulted", self._value, depends_on=("u",))
+        self.input("u", 0.0, "m/s2", "Command passed through")
+        self.output("y", "m/s2", "u, or the injected NaN/inf once faulted", self._value, depends_on=("u",))
         self.faulted = False
 
     def _value(self):

@@ -5,6 +5,7 @@ import subprocess
 import sys
 import textwrap
 import zipfile
+from xml.etree import ElementTree
 
 import pytest
 from fmpy import read_model_description
@@ -12,10 +13,6 @@ from fmpy.validation import validate_fmu
 
 from aotv_cosim import fmu_build
 from aotv_cosim.physics import point_mass
-
-
-DIMENSIONLESS = {"load_factor", "saturated", "converged"}
-"""Real interface variables whose unit is 1 (no unit attribute)."""
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +27,7 @@ def test_every_fmu_validates_with_units_and_structure(built):
         md = read_model_description(str(path))
         assert md.defaultExperiment is not None and md.defaultExperiment.stepSize
         reals = [v for v in md.modelVariables if v.type == "Real" and v.causality != "parameter"]
-        assert all(v.unit or v.name in DIMENSIONLESS for v in reals), name
+        assert all(v.unit for v in reals), name  # dimensionless ones declare unit "1"
         assert all(v.description for v in md.modelVariables), name
         assert {u.variable.name for u in md.initialUnknowns} == {
             v.name for v in md.modelVariables if v.causality == "output"}
@@ -105,3 +102,12 @@ def test_vehicle_runs_where_aotv_cosim_is_not_installed(built, tmp_path):
                           capture_output=True, text=True, env={"PATH": os.environ["PATH"]})
     assert done.returncode == 0, done.stdout + done.stderr
     assert "clean run ok" in done.stdout
+
+
+def test_every_variable_states_causality_and_variability(built):
+    """Third-party tools show what the XML says: no attribute left to the FMI 2.0 defaults."""
+    for name, path in built.items():
+        with zipfile.ZipFile(path) as archive:
+            root = ElementTree.fromstring(archive.read("modelDescription.xml"))
+        for var in root.iter("ScalarVariable"):
+            assert {"causality", "variability", "description"} <= set(var.attrib), (name, var.attrib)

@@ -16,11 +16,11 @@ STEP = 0.01
 
 
 def _long_scenario(tmp_path):
-    """Two FMUs (atmosphere -> pass-through) for 10^7 steps: minutes, far longer than the test."""
+    """Two FMUs (pass-through -> actuator) for 10^7 steps: minutes, far longer than the test."""
     wiring = write_json(tmp_path / "wiring.json", {
-        "components": {"atmosphere": {"fmu": "Atmosphere", "parameters": {"h": 1000.0}},
-                       "relay": {"fmu": "FaultInjector"}},
-        "connections": ["atmosphere.rho -> relay.u"]})
+        "components": {"relay": {"fmu": "FaultInjector", "parameters": {"u": 0.5}},
+                       "actuator": {"fmu": "LiftActuator"}},
+        "connections": ["relay.y -> actuator.command"]})
     return write_json(tmp_path / "long.json", {"system": str(wiring), "stop": 1e5, "step": STEP})
 
 
@@ -53,9 +53,9 @@ def test_interrupted_run_keeps_a_readable_partial_series(tmp_path, signum):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted" and summary["error"] is None
     lines = (out / "timeseries.csv").read_text().splitlines()
-    assert lines[0] == "time,atmosphere.rho,relay.y"
+    assert lines[0] == "time,relay.y,actuator.position,actuator.saturated"
     rows = [list(map(float, line.split(","))) for line in lines[1:]]
-    assert len(rows) >= 1000 and all(len(r) == 3 for r in rows)
+    assert len(rows) >= 1000 and all(len(r) == 4 and r[1:3] == [0.5, 0.5] for r in rows)
     assert [r[0] for r in rows] == pytest.approx([k * STEP for k in range(len(rows))])
     assert summary["end_time"] == rows[-1][0] and summary["steps"] >= len(rows) - 1
     assert sorted(p.name for p in out.iterdir()) == ["summary.json", "timeseries.csv"]

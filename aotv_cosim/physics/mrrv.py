@@ -63,21 +63,13 @@ def altitude_at_density(rho: float, rho_ref: float = RHO_REF, z_ref: float = Z_R
     return z_ref - scale_height * math.log(rho / rho_ref)
 
 
-def inclination(phi: float, psi: float) -> float:
-    """Orbit inclination i = arccos(cos phi cos psi), rad, for latitude phi and heading psi (rad).
-
-    Extraction Sec. 2.7 (report Sec. 3.1: with theta0 = phi0 = psi0 = 0 the initial orbit is
-    equatorial and psi approximates the inclination change).
-    """
-    return math.acos(max(-1.0, min(1.0, math.cos(phi) * math.cos(psi))))
-
-
-def loh_term(r: float, v: float, rho: float, mu: float) -> float:
+def loh_term(r: float, v: float, rho: float, mu: float,
+             cl_star_s_over_m: float = CL_STAR * S_REF / MASS) -> float:
     """Loh's term eps*Mbar of eqs. (3.47), (3.50), dimensionless, from dimensional data.
 
     eps Mbar = [1 - 1/(u (1+h))] / (w (1+h)) * eps = (1 - g r / v^2) / (k r) with g r = mu / r and
     k = C_L* S rho / (2 m) (1/m): the gravity-minus-centrifugal term of dgamma/dpsi per unit of
-    lift (small-angle form). r in m, v in m/s, rho in kg/m^3, mu in m^3/s^2.
+    lift (small-angle form). r in m, v in m/s, rho in kg/m^3, mu in m^3/s^2, C_L* S/m in m^2/kg.
     """
-    k = CL_STAR * S_REF * rho / (2.0 * MASS)
+    k = 0.5 * cl_star_s_over_m * rho
     return (1.0 - mu / (r * v * v)) / (k * r)

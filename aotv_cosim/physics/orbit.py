@@ -36,3 +36,12 @@ def circularization_delta_v(h: float, v: float, gamma: float, mu: float = MU_EAR
     sma, ecc, ang = conic_elements(r_earth + h, v, gamma, mu)
     r_a = sma * (1.0 + ecc)
     return math.sqrt(mu / r_a) - ang / r_a
+
+
+def inclination(phi: float, psi: float) -> float:
+    """Orbit inclination i = arccos(cos phi cos psi), rad, for latitude phi and heading psi (rad).
+
+    Extraction Sec. 2.7 (report Sec. 3.1: with theta0 = phi0 = psi0 = 0 the initial orbit is
+    equatorial and psi approximates the inclination change).
+    """
+    return math.acos(max(-1.0, min(1.0, math.cos(phi) * math.cos(psi))))

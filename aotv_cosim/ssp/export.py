@@ -1,0 +1,199 @@
+"""Scenario -> .ssp archive: FMUs, SystemStructure.ssd, one .ssv per component, default experiment.
+
+The SSD lists every component with a connector for each of its FMU's parameters, connected
+inputs and outputs (kind = causality, type and SI unit, description), the units' SI base-unit
+exponents,
+the connections, a ParameterBinding per component that references its values in
+``resources/<component>.ssv`` (the wiring's values with the scenario's overrides applied), and
+the default experiment: start and stop as attributes, the communication step in the OSP
+annotation libcosim reads (``osp:FixedStepAlgorithm baseStepSize``) and, with the master
+algorithm, in an aotv-cosim annotation. Both XML files are checked against the SSP 1.0 schemas
+FMPy ships. The archive is reproducible: members in sorted order with a fixed date, no
+generation time, so the same scenario and FMUs give the same bytes.
+
+An input left unconnected (given a value in the wiring) gets its value from the parameter
+binding but no connector: FMPy 0.3's SSP simulator writes every input connector each step,
+with 0 when unconnected, and wires an unconnected input connector to the source of the
+connection listed before it; SSP allows bindings to name FMU variables without connectors.
+"""
+
+import io
+import zipfile
+from pathlib import Path
+from xml.etree import ElementTree
+from xml.etree.ElementTree import Element, SubElement
+
+from aotv_cosim import __version__
+from aotv_cosim.errors import BuildError, InputError
+from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
+                                schema_problems)
+
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+KINDS = ("parameter", "input", "output")
+"""FMI 2.0 causalities exposed as connectors (SSP requires kind == causality for FMI 2.0)."""
+TYPES = {"Real": "ssc:Real", "Integer": "ssc:Integer", "Boolean": "ssc:Boolean", "String": "ssc:String"}
+BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+
+
+def export_ssp(scenario, out) -> Path:
+    """Write `scenario` (a loaded Scenario) as the SSP archive `out`; returns its path."""
+    out = Path(out)
+    system = scenario.system
+    sources, fmu_files = _fmu_members(system)
+    members = {name: path.read_bytes() for name, path in fmu_files.items()}
+    ssv_sources = {}
+    for comp in system.components.values():
+        if comp.parameters:
+            member = f"resources/{comp.name}.ssv"
+            members[member] = _checked(_ssv(comp), SSV_SCHEMA, member)
+            ssv_sources[comp.name] = member
+    members["SystemStructure.ssd"] = _checked(_ssd(scenario, sources, ssv_sources), SSD_SCHEMA,
+                                              "SystemStructure.ssd")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name in sorted(members):
+            info = zipfile.ZipInfo(name, date_time=ZIP_DATE)
+            info.external_attr = 0o644 << 16
+            info.compress_type = zipfile.ZIP_DEFLATED
+            archive.writestr(info, members[name])
+    return out
+
+
+def _fmu_members(system):
+    """({component: archive path of its FMU}, {archive path: FMU file}); one file per distinct FMU."""
+    sources, files, by_guid = {}, {}, {}
+    for comp in system.components.values():
+        fmu = comp.fmu
+        if fmu.guid not in by_guid:
+            member = f"resources/{fmu.model_identifier}.fmu"
+            if member in files:  # two different FMUs with one model identifier
+                member = f"resources/{fmu.model_identifier}_{comp.name}.fmu"
+            by_guid[fmu.guid] = member
+            files[member] = fmu.path
+        sources[comp.name] = by_guid[fmu.guid]
+    return sources, files
+
+
+def _checked(root, schema_file, member) -> bytes:
+    xml = _serialize(root)
+    problems = schema_problems(xml, schema_file)
+    if problems:
+        raise BuildError(f"{member} violates {schema_file}: " + " | ".join(problems[:5]),
+                         fix="report this as a bug of the SSP exporter")
+    return xml
+
+
+def _serialize(root) -> bytes:
+    ElementTree.indent(root, space="  ")
+    buffer = io.BytesIO()
+    ElementTree.ElementTree(root).write(buffer, encoding="UTF-8", xml_declaration=True)
+    return buffer.getvalue() + b"\n"
+
+
+def _ssd(scenario, sources, ssv_sources):
+    system = scenario.system
+    root = Element(q("ssd:SystemStructureDescription"),
+                   {"version": "1.0", "name": scenario.path.stem,
+                    "generationTool": f"aotv-cosim {__version__}"})
+    if scenario.description:
+        root.set("description", scenario.description)
+    top = SubElement(root, q("ssd:System"), {"name": system.path.stem})
+    elements = SubElement(top, q("ssd:Elements"))
+    units = {}
+    for comp in system.components.values():
+        connected = {c.input for c in system.connections if c.target == comp.name}
+        _component(elements, comp, sources[comp.name], ssv_sources.get(comp.name), units, connected)
+    if system.connections:
+        connections = SubElement(top, q("ssd:Connections"))
+        for c in system.connections:
+            SubElement(connections, q("ssd:Connection"),
+                       {"startElement": c.source, "startConnector": c.output,
+                        "endElement": c.target, "endConnector": c.input})
+    if units:
+        unit_list = SubElement(root, q("ssd:Units"))
+        for name in sorted(units):
+            unit = SubElement(unit_list, q("ssc:Unit"), {"name": name})
+            SubElement(unit, q("ssc:BaseUnit"), units[name])
+    _default_experiment(root, scenario)
+    return root
+
+
+def _component(elements, comp, source, ssv_source, units, connected):
+    node = SubElement(elements, q("ssd:Component"),
+                      {"name": comp.name, "type": "application/x-fmu-sharedlibrary", "source": source})
+    defined = _unit_exponents(comp.fmu.model_description)
+    connectors = SubElement(node, q("ssd:Connectors"))
+    for var in comp.fmu.variables.values():
+        if var.causality not in KINDS or (var.causality == "input" and var.name not in connected):
+            continue
+        if var.type not in TYPES:
+            raise InputError(f"{comp.name}.{var.name} is of type {var.type}, which SSP tools cannot connect",
+                             file=comp.fmu.path, fix="use Real, Integer, Boolean or String variables")
+        attributes = {"name": var.name, "kind": var.causality}
+        if var.description:
+            attributes["description"] = var.description
+        connector = SubElement(connectors, q("ssd:Connector"), attributes)
+        type_node = SubElement(connector, q(TYPES[var.type]))
+        if var.type == "Real" and var.unit:
+            type_node.set("unit", var.unit)
+            units[var.unit] = defined.get(var.unit, {})
+    if ssv_source:
+        bindings = SubElement(node, q("ssd:ParameterBindings"))
+        SubElement(bindings, q("ssd:ParameterBinding"),
+                   {"type": "application/x-ssp-parameter-set", "source": ssv_source})
+
+
+def _unit_exponents(model_description):
+    """{unit name: {base unit: exponent as text}} from an FMU's UnitDefinitions (non-zero only)."""
+    exponents = {}
+    for unit in model_description.unitDefinitions:
+        base = unit.baseUnit
+        exponents[unit.name] = {b: str(getattr(base, b)) for b in BASE_UNITS
+                                if base is not None and getattr(base, b)}
+        if base is not None and base.factor != 1.0:
+            exponents[unit.name]["factor"] = repr(base.factor)
+        if base is not None and base.offset != 0.0:
+            exponents[unit.name]["offset"] = repr(base.offset)
+    return exponents
+
+
+def _ssv(comp):
+    """The component's values as an SSV ParameterSet (names are the FMU's variable names)."""
+    root = Element(q("ssv:ParameterSet"), {"version": "1.0", "name": comp.name})
+    parameters = SubElement(root, q("ssv:Parameters"))
+    units = {}
+    defined = _unit_exponents(comp.fmu.model_description)
+    for name, value in comp.parameters.items():
+        var = comp.fmu.variables[name]
+        node = SubElement(SubElement(parameters, q("ssv:Parameter"), {"name": name}),
+                          q(f"ssv:{var.type}"), {"value": format_value(var.type, value)})
+        if var.type == "Real" and var.unit:
+            node.set("unit", var.unit)
+            units[var.unit] = defined.get(var.unit, {})
+    if units:
+        unit_list = SubElement(root, q("ssv:Units"))
+        for name in sorted(units):
+            SubElement(SubElement(unit_list, q("ssc:Unit"), {"name": name}), q("ssc:BaseUnit"), units[name])
+    return root
+
+
+def format_value(kind: str, value) -> str:
+    """An XML attribute spelling of a value of FMI type `kind` that reads back exactly."""
+    if kind == "Real":
+        return repr(float(value))
+    if kind == "Integer":
+        return str(int(value))
+    if kind == "Boolean":
+        return "true" if value else "false"
+    return str(value)
+
+
+def _default_experiment(root, scenario):
+    experiment = SubElement(root, q("ssd:DefaultExperiment"),
+                            {"startTime": repr(scenario.start), "stopTime": repr(scenario.stop)})
+    annotations = SubElement(experiment, q("ssd:Annotations"))
+    osp = SubElement(annotations, q("ssc:Annotation"), {"type": OSP_ANNOTATION})
+    algorithm = SubElement(osp, q("osp:Algorithm"))
+    SubElement(algorithm, q("osp:FixedStepAlgorithm"), {"baseStepSize": repr(scenario.step)})
+    aotv = SubElement(annotations, q("ssc:Annotation"), {"type": AOTV_ANNOTATION})
+    SubElement(aotv, q("aotv:Experiment"), {"stepSize": repr(scenario.step), "algorithm": scenario.algorithm})

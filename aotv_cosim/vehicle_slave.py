@@ -1,0 +1,134 @@
+"""Adapter base of the vehicle FMUs: the 3-D point mass of `physics.point_mass` behind FMI.
+
+Why one base and several vehicle FMUs instead of one FMU with an aerodynamic-model switch: each
+seed commands its vehicle through different inputs (seed 000 a lift acceleration u = L/m, seed 001
+a normalized lift coefficient lambda, seeds 002/003 an angle of attack). An FMU input that a
+system does not use must still be given a value in the wiring, so one FMU carrying every input
+would burden every wiring file with dummies and let a wrong one be connected silently. Each
+vehicle FMU in ``fmus_src`` therefore declares only its own aerodynamic inputs and implements
+`aero_forces`; the state, the integration, the planet, heating and the mission outputs are here,
+once. Bundled into the FMUs (``fmu_build.RUNTIME``).
+"""
+
+import math
+import sys
+
+from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.physics import aero, constants, orbit, point_mass
+
+UNBOUND_APOGEE = sys.float_info.max
+"""apogee_alt reported for an unbound (escape) orbit, m: finite so the master's non-finite check
+keeps flagging real failures only."""
+
+
+class VehicleSlave(AotvSlave):
+    """States r, theta, phi, v, gamma, psi integrated by RK4 inside each communication step.
+
+    Subclasses call `declare_vehicle(aero_inputs)` after declaring their own parameters and
+    inputs, implement `aero_forces()` -> (lift_acc m/s^2, cl_s_m m^2/kg, cd_s_m m^2/kg) from the
+    current inputs (see `point_mass.derivatives`), and define ``do_step`` as a call of `advance`.
+    Inputs are held over the step (zero-order hold), as the FMU receives them.
+    """
+
+    default_h0, default_v0, default_gamma0 = 90e3, 8200.0, -0.02
+    default_r_e = constants.R_EARTH_000
+    default_gravity = point_mass.GRAVITY_CONSTANT
+
+    def declare_vehicle(self, aero_inputs):
+        """Declare the initial state, planet, heating parameters, the bank input and the outputs.
+
+        aero_inputs: names of the inputs `aero_forces` reads (the aerodynamic outputs feed
+        through from them and from rho).
+        """
+        p = self.parameter
+        p("h0", self.default_h0, "m", "Initial altitude")
+        p("v0", self.default_v0, "m/s", "Initial speed")
+        p("gamma0", self.default_gamma0, "rad", "Initial flight-path angle (positive up)")
+        p("theta0", 0.0, "rad", "Initial longitude (downrange angle in the planar case)")
+        p("phi0", 0.0, "rad", "Initial latitude")
+        p("psi0", 0.0, "rad", "Initial heading, from east toward north")
+        p("R_e", self.default_r_e, "m", "Planet radius")
+        self.integer_parameter("gravity_model", self.default_gravity,
+                               "0: constant g0 (seed 000); 1: inverse square mu/r^2")
+        p("g0", constants.G0, "m/s2", "Constant gravity (gravity_model 0) and load-factor unit")
+        p("mu", constants.MU_EARTH, "m3/s2", "Gravitational parameter (gravity 1 and orbit outputs)")
+        p("max_substep", 0.5, "s", "Longest RK4 substep inside one communication step")
+        p("k_q", 1.7415e-4, "kg/(s.m)", "Heating constant (Sutton-Graves 1.7415e-4 with N=0.5, M=3)")
+        p("q_rho_exp", 0.5, "1", "Density exponent N of the heating law")
+        p("q_v_exp", 3.0, "1", "Speed exponent M of the heating law")
+        p("nose_radius", 1.0, "m", "Nose radius R_n of the heating law")
+        self.input("rho", 0.0, "kg/m3", "Air density at the vehicle")
+        self.input("sigma", 0.0, "rad", "Bank angle (positive turns toward north when heading east)")
+        aero_deps = ("rho", *aero_inputs)
+        x = lambda k: (lambda: self.x[k])
+        o = self.output
+        o("h", "m", "Altitude r - R_e", lambda: self.x[0] - self.R_e)
+        o("r", "m", "Radius", x(0))
+        o("theta", "rad", "Longitude", x(1))
+        o("phi", "rad", "Latitude", x(2))
+        o("v", "m/s", "Speed", x(3))
+        o("gamma", "rad", "Flight-path angle", x(4))
+        o("psi", "rad", "Heading from east toward north", x(5))
+        o("inclination", "rad", "Orbit inclination arccos(cos phi cos psi) (seed 001 Sec. 3.1)",
+          lambda: orbit.inclination(self.x[2], self.x[5]))
+        o("qdot", "W/m2", "Stagnation-point heating rate k_q rho^N v^M / sqrt(R_n)", self._heating,
+          depends_on=("rho",))
+        o("qbar", "Pa", "Dynamic pressure rho v^2 / 2",
+          lambda: aero.dynamic_pressure(self.rho, self.x[3]), depends_on=("rho",))
+        o("lift_acc", "m/s2", "Lift specific force L/m", lambda: self._specific_forces()[0],
+          depends_on=aero_deps)
+        o("drag_acc", "m/s2", "Drag specific force D/m", lambda: self._specific_forces()[1],
+          depends_on=aero_deps)
+        o("load_factor", "1", "Aerodynamic load factor sqrt(L^2+D^2)/(m g0)",
+          lambda: aero.load_factor(*self._specific_forces(), self.g0), depends_on=aero_deps)
+        o("apogee_alt", "m", "Apogee altitude of the Keplerian orbit through the current state "
+          "(seed 000 extraction Sec. 7); 1.8e308 when unbound", self._apogee)
+        o("dv_circ", "m/s", "Apogee impulse that circularises that orbit (seed 000 Ch. 9)",
+          self._dv_circ)
+        self.reset_state()
+
+    # ---- subclass interface ----------------------------------------------------------------
+    def aero_forces(self):
+        """(lift_acc m/s^2, C_L S/m m^2/kg, C_D S/m m^2/kg) from the current inputs."""
+        raise NotImplementedError
+
+    # ---- state ------------------------------------------------------------------------------
+    def reset_state(self):
+        """Initial state from the parameters (called again when initialization ends)."""
+        self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
+
+    def enter_initialization_mode(self):
+        self.reset_state()
+
+    def exit_initialization_mode(self):
+        self.reset_state()
+
+    def advance(self, step_size):
+        """The FMU's do_step body: integrate over step_size (s); False when the state is not finite."""
+        args = (self.rho, *self.aero_forces(), self.sigma, self.gravity_model, self.g0, self.mu)
+        self.x = point_mass.integrate(self.x, step_size, self.max_substep, args)
+        return all(map(math.isfinite, self.x))
+
+    # ---- outputs ----------------------------------------------------------------------------
+    def _specific_forces(self):
+        lift_acc, cl_s_m, cd_s_m = self.aero_forces()
+        q_over_m = aero.dynamic_pressure(self.rho, self.x[3])
+        return lift_acc + q_over_m * cl_s_m, q_over_m * cd_s_m
+
+    def _heating(self):
+        return aero.stagnation_heating_rate(self.rho, self.x[3], self.k_q, self.q_rho_exp,
+                                            self.q_v_exp, self.nose_radius)
+
+    def _bound(self):
+        return 0.5 * self.x[3] ** 2 < self.mu / self.x[0]
+
+    def _apogee(self):
+        if not self._bound():
+            return UNBOUND_APOGEE
+        return orbit.apsis_altitudes(self.x[0] - self.R_e, self.x[3], self.x[4], self.mu, self.R_e)[1]
+
+    def _dv_circ(self):
+        if not self._bound():
+            return 0.0
+        return orbit.circularization_delta_v(self.x[0] - self.R_e, self.x[3], self.x[4], self.mu,
+                                             self.R_e)
