@@ -122,3 +122,8 @@ def test_schemas_serve_editors(kind):
     assert len(shipped) >= 3
     expected = "systems" if kind == "wiring" else "scenarios"
     assert all(p.parent.name == expected for p in shipped), shipped
+
+
+def test_every_case_is_in_the_documented_catalogue():
+    catalogue = (ROOT / "docs" / "reliability.md").read_text()
+    assert not [c["file"] for c in CASES if f"`{c['file']}`" not in catalogue]
