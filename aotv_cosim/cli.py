@@ -198,7 +198,7 @@ def check(paths, out):
     files = []
     for p in paths or ("scenarios",):
         p = Path(p)
-        files += sorted(p.glob("*.json")) if p.is_dir() else [p]
+        files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
 
     def body():
         candidates = [s for s in map(load_scenario, files) if s.expectations]
@@ -223,21 +223,25 @@ def check(paths, out):
 @main.command()
 @click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False))
 def validate(files):
-    """Check scenario or wiring FILES without running them."""
+    """Check scenario, wiring or comparison FILES without running them."""
+    from aotv_cosim.compare import load_comparison
     from aotv_cosim.scenario import load_scenario
     from aotv_cosim.system import load_system
+
+    loaders = {"wiring": load_system, "scenario": load_scenario, "compare": load_comparison}
 
     def body():
         for f in files:
             kind = _kind(f)
-            (load_system if kind == "wiring" else load_scenario)(f)
+            loaders[kind](f)
             click.echo(f"ok: {f} ({kind})")
 
     _guard(body)
 
 
 def _kind(path):
-    """'wiring' for a document with components or connections (or a wiring $schema), else 'scenario'.
+    """The kind of document `path` is: named by its "$schema" (wiring, compare, scenario), else
+    'wiring' if it has components or connections, else 'scenario'.
 
     A file that cannot be read or parsed counts as a scenario: its loader reports the problem."""
     from aotv_cosim.documents import strict_json
@@ -248,8 +252,10 @@ def _kind(path):
         return "scenario"
     if not isinstance(doc, dict):
         return "scenario"
-    wiring_schema = "wiring" in str(doc.get("$schema", ""))
-    return "wiring" if wiring_schema or "components" in doc or "connections" in doc else "scenario"
+    named = [k for k in ("wiring", "compare", "scenario") if f"{k}.schema.json" in str(doc.get("$schema", ""))]
+    if named:
+        return named[0]
+    return "wiring" if "components" in doc or "connections" in doc else "scenario"
 
 
 @main.command("build-fmus")
