@@ -4,7 +4,9 @@
 base declares the measured entry-state inputs h, v, gamma, solves once per distinct entry state
 and parameter set while initializing (outputs read in initialization mode follow the inputs, as
 the master propagates the vehicle's entry state), latches the solution when initialization ends,
-and commands 0 after the law's final time.
+and commands 0 after the law's final time. A solution whose solver did not converge stops the
+run with an error status and a log message naming the entry state, unless the parameter
+accept_unconverged is 1 (then it is flown, flagged by the law's `converged` output).
 
 `NominalTrackingGuidance`: a feedback law u = u_d(t) + du(x, t) about the optimal nominal of the
 2PBVP (3.21)-(3.22), which the FMU solves at initialization from its design entry
@@ -46,6 +48,8 @@ class EntryLatchedGuidance(AotvSlave):
         self.input("h", 90e3, "m", "Measured altitude (latched at initialization)")
         self.input("v", 8200.0, "m/s", "Measured speed (latched at initialization)")
         self.input("gamma", -0.02, "rad", "Measured flight-path angle (latched at initialization)")
+        self.integer_parameter("accept_unconverged", 0,
+                               "1: fly a solution whose solver did not converge; 0: stop with an error")
         self.time = 0.0
         self.latched = None
         self._cache_key = None
@@ -81,7 +85,12 @@ class EntryLatchedGuidance(AotvSlave):
         key = tuple(getattr(self, v.name) for v in self.vars.values()
                     if v.causality.name in ("input", "parameter"))
         if key != self._cache_key:
-            self._cache = self.solve()
+            solution = self.solve()
+            if not getattr(solution, "converged", True) and not self.accept_unconverged:
+                raise RuntimeError(f"{type(self).__name__}: the guidance solver did not converge for the entry "
+                                   f"state h = {self.h:.6g} m, v = {self.v:.6g} m/s, gamma = {self.gamma:.6g} "
+                                   "rad; check the exit targets, or set accept_unconverged = 1 to fly it")
+            self._cache = solution
             self._cache_key = key
         return self._cache
 

@@ -367,3 +367,19 @@ def test_first_order_guided_flight_is_not_adopted():
     xf, law = fly_guided(first_order=True)
     assert abs(math.degrees(xf[4]) - 1.0) > 0.5
     assert law.failures > len(law.solutions) // 3
+
+
+def test_reduced_heading_equation_drops_only_the_tan_phi_term():
+    """point_mass HEADING_REDUCED: (3.6) without -V^2 cos(gamma) cos(psi) tan(phi)/r, i.e. eq. (3.23)
+    in time form (extraction 2.5, 2.7); identical to the full model at phi = 0."""
+    cl, cd = mrrv.coefficients_per_mass(1.0)
+    args = (mrrv.density(50e3), 0.0, cl, cd, D(80.0), point_mass.GRAVITY_INVERSE_SQUARE, 9.81,
+            MODEL.mu_earth)
+    x = [MODEL.r_earth + 50e3, 0.1, D(2.0), 7000.0, D(0.5), D(15.0)]
+    full = point_mass.derivatives(x, *args)
+    reduced = point_mass.derivatives(x, *args, point_mass.HEADING_REDUCED)
+    assert reduced[:5] == full[:5]
+    coupling = x[3] * math.cos(x[4]) * math.cos(x[5]) * math.tan(x[2]) / x[0]
+    assert reduced[5] - full[5] == pytest.approx(coupling, rel=1e-12)
+    x[2] = 0.0
+    assert point_mass.derivatives(x, *args, point_mass.HEADING_REDUCED) == point_mass.derivatives(x, *args)
