@@ -158,6 +158,12 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
     members[BUILD_INFO] = (digest + "\n").encode()
+    write_reproducible_zip(out, members)
+
+
+def write_reproducible_zip(out: Path, members: dict) -> None:
+    """Write {name: bytes} to the zip `out` in sorted order with a fixed date and mode, so the
+    same members always give the same bytes (FMU and SSP archives)."""
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
         for name in sorted(members):
             info = zipfile.ZipInfo(name, date_time=ZIP_DATE)

@@ -13,12 +13,14 @@ accept_unconverged is 1 (then it is flown, flagged by the law's `converged` outp
 (`guidance.tracking`). Bundled into the FMUs.
 """
 
+import math
 import time as clock
 from abc import abstractmethod
 
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
-from aotv_cosim.physics.constants import R_EARTH_000
+from aotv_cosim.physics import mrrv
+from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 from aotv_cosim.physics.planar import ENTRY_000, EXIT_000, K_BALL_000, TF_000
 
 ENTRY = ("h", "v", "gamma")
@@ -38,6 +40,24 @@ def declare_exit_targets_and_k(slave):
     (2.8), rho_s C_D0 / (2 m/S) = 2.92e-4 1/m."""
     declare_exit_targets(slave)
     slave.parameter("K_ball", K_BALL_000, "1/m", "Ballistic parameter K of eq. (2.8) used by the solve")
+
+
+def declare_plane_change_problem(slave):
+    """Parameters of the seed-001 plane change that a guidance FMU solves with: exit targets
+    (Sec. 3.7.2), MRRV polar and mass (Sec. 3.7.1) and the anchored atmosphere and planet
+    (extraction A2, A3). They must match the vehicle and Atmosphere FMUs of the system."""
+    p = slave.parameter
+    p("z_f", 60.0e3, "m", "Exit altitude target (Sec. 3.7.2)")
+    p("gamma_f", math.radians(1.0), "rad", "Exit flight-path angle target (Sec. 3.7.2)")
+    p("E_star", mrrv.E_STAR, "1", "Maximum lift-to-drag ratio E*")
+    p("CL_star", mrrv.CL_STAR, "1", "Lift coefficient at (L/D)max")
+    p("S_ref", mrrv.S_REF, "m2", "Reference area")
+    p("mass", mrrv.MASS, "kg", "Vehicle mass")
+    p("scale_height", mrrv.H_SCALE, "m", "Density scale height H_s (eq. 3.8)")
+    p("rho_ref", mrrv.RHO_REF, "kg/m3", "Density at the anchor altitude h_ref (extraction A2)")
+    p("h_ref", mrrv.Z_REF, "m", "Anchor altitude of the density")
+    p("R_e", mrrv.R_EARTH, "m", "Planet radius (extraction A3)")
+    p("mu", MU_EARTH, "m3/s2", "Gravitational parameter")
 
 
 class EntryLatchedGuidance(AotvSlave):

@@ -2,10 +2,11 @@
 
 import math
 
+from aotv_cosim import guidance_slave
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.guidance import mae
 from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw
-from aotv_cosim.physics import constants, mrrv
+from aotv_cosim.physics import mrrv
 
 STATE = ("r", "v", "gamma", "psi")
 
@@ -28,20 +29,10 @@ class MaeGuidance(AotvSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        guidance_slave.declare_plane_change_problem(self)
         p = self.parameter
-        p("z_f", 60.0e3, "m", "Exit altitude target (Sec. 3.7.2)")
-        p("gamma_f", math.radians(1.0), "rad", "Exit flight-path angle target (Sec. 3.7.2)")
         p("psi_f", math.radians(20.0), "rad", "Exit heading target (Sec. 3.7.2: 20 deg change)")
         p("update_period", 5.0, "s", "Time between MAE re-solves (Sec. 3.8.2: 5 s)")
-        p("E_star", mrrv.E_STAR, "1", "Maximum lift-to-drag ratio E*")
-        p("CL_star", mrrv.CL_STAR, "1", "Lift coefficient at (L/D)max")
-        p("S_ref", mrrv.S_REF, "m2", "Reference area")
-        p("mass", mrrv.MASS, "kg", "Vehicle mass")
-        p("scale_height", mrrv.H_SCALE, "m", "Density scale height H_s (eq. 3.8)")
-        p("rho_ref", mrrv.RHO_REF, "kg/m3", "Density at the anchor altitude h_ref (extraction A2)")
-        p("h_ref", mrrv.Z_REF, "m", "Anchor altitude of the density")
-        p("R_e", mrrv.R_EARTH, "m", "Planet radius (extraction A3)")
-        p("mu", constants.MU_EARTH, "m3/s2", "Gravitational parameter")
         self.integer_parameter("measured_u_in_p_u", 0,
                                "1: measured u in the inner P_u (extraction A17); 0: u_0^i(psi)")
         self.integer_parameter("first_order", 0,

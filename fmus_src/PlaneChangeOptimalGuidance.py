@@ -7,7 +7,6 @@ import numpy as np
 
 from aotv_cosim import guidance_slave
 from aotv_cosim.guidance.plane_change_optimal import PlaneChangeProblem, solve_optimal
-from aotv_cosim.physics import constants, mrrv
 
 
 class PlaneChangeOptimalGuidance(guidance_slave.EntryLatchedGuidance):
@@ -23,19 +22,9 @@ class PlaneChangeOptimalGuidance(guidance_slave.EntryLatchedGuidance):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        guidance_slave.declare_plane_change_problem(self)
         p = self.parameter
-        p("z_f", 60.0e3, "m", "Exit altitude target (Sec. 3.7.2)")
-        p("gamma_f", math.radians(1.0), "rad", "Exit flight-path angle target (Sec. 3.7.2)")
         p("dpsi", math.radians(20.0), "rad", "Heading change (Sec. 3.7.2)")
-        p("E_star", mrrv.E_STAR, "1", "Maximum lift-to-drag ratio E*")
-        p("CL_star", mrrv.CL_STAR, "1", "Lift coefficient at (L/D)max")
-        p("S_ref", mrrv.S_REF, "m2", "Reference area")
-        p("mass", mrrv.MASS, "kg", "Vehicle mass")
-        p("scale_height", mrrv.H_SCALE, "m", "Density scale height H_s (eq. 3.8)")
-        p("rho_ref", mrrv.RHO_REF, "kg/m3", "Density at the anchor altitude h_ref (extraction A2)")
-        p("h_ref", mrrv.Z_REF, "m", "Anchor altitude of the density")
-        p("R_e", mrrv.R_EARTH, "m", "Planet radius (extraction A3)")
-        p("mu", constants.MU_EARTH, "m3/s2", "Gravitational parameter")
         self.solve_seconds = 0.0
         out = self.solution_output
         out("lam", "1", "Optimal normalized lift lambda (0 after t_f)", self.current_command)

@@ -3,7 +3,6 @@
 import math
 
 import numpy as np
-import pytest
 
 from aotv_cosim import plane_change_plots as pcp
 from aotv_cosim.guidance import mae
