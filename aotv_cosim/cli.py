@@ -1,10 +1,11 @@
-"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp.
+"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp, compare.
 
 Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
 exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
 one line too, unless --debug asks for the traceback.
 """
 
+import contextlib
 import signal
 import sys
 from pathlib import Path
@@ -42,10 +43,43 @@ def _guard(function):
         sys.exit(3)
 
 
+class _Stop:
+    """The first SIGINT/SIGTERM received during a command (None if none)."""
+
+    signum = None
+
+
 def _interrupt(signum, frame):
+    """Stop the run at a safe point: at once if the master's loop is executing, else at its next
+    progress report. Raising anywhere else could land inside an FMU's own Python code (pythonfmu
+    runs in this interpreter), which would turn the interruption into an FMU failure, or inside
+    the result writers. Later signals are ignored so the partial results get written."""
     from aotv_cosim.master import Interrupted
 
-    raise Interrupted(signal.Signals(signum).name)
+    if _Stop.signum is not None:
+        return
+    _Stop.signum = signum
+    if frame is not None and frame.f_code.co_name == "_loop" and frame.f_code.co_filename.endswith("master.py"):
+        raise Interrupted(signal.Signals(signum).name)
+
+
+@contextlib.contextmanager
+def _stoppable():
+    """Install the SIGINT/SIGTERM handler for one command, restoring the previous ones after."""
+    _Stop.signum = None
+    previous = {n: signal.signal(n, _interrupt) for n in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+
+
+def _exit_status(summary):
+    """0 if completed, 128 + signal number if interrupted (shell convention), else 1."""
+    if summary["status"] == "interrupted":
+        return 128 + (_Stop.signum or signal.SIGINT)
+    return 0 if summary["status"] == "completed" else 1
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -63,6 +97,10 @@ def _progress_bar(scenario):
                file=sys.stderr, leave=False, bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s [{elapsed}<{remaining}]")
 
     def update(t):
+        if _Stop.signum is not None:  # a signal arrived while an FMU or the writers were busy
+            from aotv_cosim.master import Interrupted
+
+            raise Interrupted(signal.Signals(_Stop.signum).name)
         bar.n = round(t - scenario.start, 6)
         bar.refresh() if bar.n >= bar.total else bar.update(0)
 
@@ -72,8 +110,7 @@ def _progress_bar(scenario):
 def _print_summary(summary, out_dir):
     click.echo(f"{Path(summary['scenario']).name}: {summary['status']} ({summary['stop_reason']}), "
                f"{summary['steps']} steps in {summary['wall_time_s']:.3f} s")
-    if summary["error"]:
-        click.echo(f"  failure: {summary['error']}")
+    _print_failure(summary)
     if summary["event"]:
         click.echo(f"  event at t = {summary['event']['time']:.6g} s")
     names = list(summary["final"])[:12]
@@ -90,6 +127,19 @@ def _print_summary(summary, out_dir):
     click.echo(f"  results in {out_dir}")
 
 
+def _print_failure(summary):
+    """The failure line, the failing FMU's last log message, and any warnings (on stderr)."""
+    if summary["error"]:
+        click.echo(f"  failure: {summary['error']}")
+        log = (summary["error_detail"] or {}).get("fmu_log") or []
+        if log and log[-1].split(": ", 1)[-1] not in summary["error"]:
+            click.echo(f"  FMU log: {log[-1]}")
+    if summary["status"] == "interrupted":
+        click.echo(f"  interrupted at t = {summary['end_time']} s; partial results kept")
+    for warning in summary.get("warnings", []):
+        click.echo(f"warning: {warning}", err=True)
+
+
 def _print_expectations(results):
     for r in results:
         measured = "not measured" if r["measured"] is None else f"{r['measured']:.7g}"
@@ -97,12 +147,9 @@ def _print_expectations(results):
                    f"{measured} vs {r['expected']:.7g} +- {r['allowed_error']:.3g}  ({r['source']})")
 
 
-def _run_one(path, out, sets, step, plots):
+def _run_one(scenario, out_dir, plots):
     from aotv_cosim.runner import run_scenario
-    from aotv_cosim.scenario import load_scenario, parse_sets
 
-    scenario = load_scenario(path, parse_sets(sets), step)
-    out_dir = Path(out) if out else DEFAULT_OUT / Path(path).stem
     bar, update = _progress_bar(scenario)
     try:
         summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots)
@@ -118,69 +165,97 @@ def _run_one(path, out, sets, step, plots):
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
 def run(scenario, out, sets, step, no_plots):
-    """Run SCENARIO: writes timeseries.csv, summary.json and plots."""
-    signal.signal(signal.SIGTERM, _interrupt)
+    """Run SCENARIO: writes timeseries.csv, summary.json and plots.
+
+    Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
+    SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
+    from aotv_cosim.scenario import load_scenario, parse_sets
 
     def body():
-        summary, out_dir = _run_one(scenario, out, sets, step, not no_plots)
+        loaded = load_scenario(scenario, parse_sets(sets), step)
+        summary, out_dir = _run_one(loaded, Path(out) if out else DEFAULT_OUT / Path(scenario).stem,
+                                    not no_plots)
         _print_summary(summary, out_dir)
         if summary["status"] != "completed":
-            sys.exit(1)
+            sys.exit(_exit_status(summary))
         if not all(r["passed"] for r in summary["expectations"]):
             click.echo("error: expectations failed (see above)", err=True)
             sys.exit(1)
 
-    _guard(body)
+    with _stoppable():
+        _guard(body)
 
 
 @main.command()
 @click.argument("paths", nargs=-1, type=click.Path(exists=True))
 @click.option("--out", type=click.Path(file_okay=False), help="Base output folder [results/check].")
 def check(paths, out):
-    """Run every scenario with expectations under PATHS [scenarios/] and compare."""
-    import json
+    """Run every scenario with expectations under PATHS [scenarios/] and compare.
+
+    Every scenario found is loaded and validated before the first one runs."""
+    from aotv_cosim.scenario import load_scenario
 
     files = []
     for p in paths or ("scenarios",):
         p = Path(p)
-        files += sorted(p.glob("*.json")) if p.is_dir() else [p]
-    candidates = [f for f in files if json.loads(f.read_text() or "{}").get("expectations")]
+        files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
 
     def body():
+        candidates = [s for s in map(load_scenario, files) if s.expectations]
         failed = 0
-        for f in candidates:
-            summary, _ = _run_one(f, Path(out or DEFAULT_OUT / "check") / f.stem, (), None, False)
+        for scenario in candidates:
+            summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
             ok = summary["status"] == "completed" and all(r["passed"] for r in summary["expectations"])
             failed += not ok
-            click.echo(f"{'PASS' if ok else 'FAIL'} {f}  ({summary['status']}, {summary['wall_time_s']:.2f} s)")
-            if summary["error"]:
-                click.echo(f"  failure: {summary['error']}")
+            click.echo(f"{'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
+                       f"{summary['wall_time_s']:.2f} s)")
+            _print_failure(summary)
             _print_expectations(summary["expectations"])
+            if summary["status"] == "interrupted":
+                sys.exit(_exit_status(summary))
         click.echo(f"{len(candidates) - failed} passed, {failed} failed")
         sys.exit(1 if failed else 0)
 
-    _guard(body)
+    with _stoppable():
+        _guard(body)
 
 
 @main.command()
 @click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False))
 def validate(files):
-    """Check scenario or wiring FILES without running them."""
-    import json
-
+    """Check scenario, wiring or comparison FILES without running them."""
+    from aotv_cosim.compare import load_comparison
     from aotv_cosim.scenario import load_scenario
     from aotv_cosim.system import load_system
 
+    loaders = {"wiring": load_system, "scenario": load_scenario, "compare": load_comparison}
+
     def body():
         for f in files:
-            try:
-                kind = "wiring" if "components" in json.loads(Path(f).read_text()) else "scenario"
-            except (OSError, ValueError):
-                kind = "scenario"  # the loader reports the precise problem
-            (load_system if kind == "wiring" else load_scenario)(f)
+            kind = _kind(f)
+            loaders[kind](f)
             click.echo(f"ok: {f} ({kind})")
 
     _guard(body)
+
+
+def _kind(path):
+    """The kind of document `path` is: named by its "$schema" (wiring, compare, scenario), else
+    'wiring' if it has components or connections, else 'scenario'.
+
+    A file that cannot be read or parsed counts as a scenario: its loader reports the problem."""
+    from aotv_cosim.documents import strict_json
+
+    try:
+        doc = strict_json(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return "scenario"
+    if not isinstance(doc, dict):
+        return "scenario"
+    named = [k for k in ("wiring", "compare", "scenario") if f"{k}.schema.json" in str(doc.get("$schema", ""))]
+    if named:
+        return named[0]
+    return "wiring" if "components" in doc or "connections" in doc else "scenario"
 
 
 @main.command("build-fmus")
@@ -240,5 +315,25 @@ def export_ssp(scenario, out, sets, step):
         click.echo(f"{path}: {len(loaded.system.components)} components, "
                    f"{len(loaded.system.connections)} connections, "
                    f"{loaded.start:g}..{loaded.stop:g} s by {loaded.step:g} s")
+
+    _guard(body)
+
+
+@main.command()
+@click.argument("comparison", default="scenarios/aotv_compare.json", type=click.Path(dir_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<comparison>].")
+@click.option("--no-plots", is_flag=True, help="Skip the overlaid plots.")
+def compare(comparison, out, no_plots):
+    """Fly every guidance law of COMPARISON [scenarios/aotv_compare.json] through the same
+    (dispersed) atmosphere; write comparison.csv and comparison.png, print the table."""
+    from aotv_cosim.compare import format_table, load_comparison, run_comparison
+
+    def body():
+        loaded = load_comparison(comparison)
+        out_dir = Path(out) if out else DEFAULT_OUT / Path(comparison).stem
+        table = run_comparison(loaded, out_dir, progress=lambda law: click.echo(f"flying {law}", err=True),
+                               make_plots=not no_plots)
+        click.echo(format_table(table))
+        click.echo(f"table in {out_dir / 'comparison.csv'}")
 
     _guard(body)

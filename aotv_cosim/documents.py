@@ -1,10 +1,12 @@
 """Reading scenario and wiring files: strict JSON, then the shipped JSON schemas.
 
 Files are data: nothing in them is evaluated. NaN and Infinity literals, which Python's json
-module would accept, are refused, as are duplicate keys.
+module would accept, numbers too large for a float (1e400, which it would read as infinity) and
+duplicate keys are refused.
 """
 
 import json
+import re
 from importlib import resources
 from pathlib import Path
 
@@ -12,7 +14,8 @@ import jsonschema
 
 from aotv_cosim.errors import InputError, raise_if_any
 
-SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json"}
+SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
+           "compare": "compare.schema.json"}
 
 _FIXES = {
     "required": "add the missing field",
@@ -35,16 +38,54 @@ def schema(kind: str) -> dict:
     return json.loads(text)
 
 
+class _Refused(ValueError):
+    """A value the strict reader refuses; `token` is its text in the file, `key` a duplicated key."""
+
+    def __init__(self, message, token=None, key=None):
+        super().__init__(message)
+        self.token, self.key = token, key
+
+
 def _refuse_constant(name):
-    raise ValueError(f"{name} is not a finite number")
+    raise _Refused(f"{name} is not a finite number", token=name)
+
+
+def _finite_float(text):
+    value = float(text)
+    if value in (float("inf"), float("-inf")):
+        raise _Refused(f"{text} is not a finite number", token=text)
+    return value
+
+
+def _float_sized_int(text):
+    value = int(text)
+    if abs(value) > 1.7976931348623157e308:
+        raise _Refused(f"{text[:20]}{'...' if len(text) > 20 else ''} is too large for a float", token=text)
+    return value
 
 
 def _no_duplicates(pairs):
     keys = [k for k, _ in pairs]
     duplicated = sorted({k for k in keys if keys.count(k) > 1})
     if duplicated:
-        raise ValueError(f"duplicate key {duplicated[0]!r}")
+        raise _Refused(f"duplicate key {duplicated[0]!r}", key=duplicated[0])
     return dict(pairs)
+
+
+def strict_json(text: str):
+    """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys (ValueError)."""
+    return json.loads(text, parse_constant=_refuse_constant, parse_float=_finite_float,
+                      parse_int=_float_sized_int, object_pairs_hook=_no_duplicates)
+
+
+def _where(text, token):
+    """'line L column C' of the first value spelled `token` in `text` (after ':', '[' or ',')."""
+    match = re.search(r"(?<=[:\[,])\s*(" + re.escape(token) + r")(?![\w.])", text)
+    if not match:
+        return None
+    start = match.start(1)
+    line = text.count("\n", 0, start) + 1
+    return f"line {line} column {start - (text.rfind(chr(10), 0, start) + 1) + 1}"
 
 
 def load_document(path, kind: str) -> dict:
@@ -54,16 +95,21 @@ def load_document(path, kind: str) -> dict:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise InputError("file not found", file=path, fix=f"give the path of an existing {kind} file")
+    except IsADirectoryError:
+        raise InputError("is a folder", file=path, fix=f"give the path of a {kind} file")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read: {exc}", file=path, fix=f"give a UTF-8 {kind} JSON file")
     try:
-        doc = json.loads(text, parse_constant=_refuse_constant, object_pairs_hook=_no_duplicates)
+        doc = strict_json(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"invalid JSON: {exc.msg}", file=path, entry=f"line {exc.lineno} column {exc.colno}",
                          fix="correct the JSON syntax there")
-    except ValueError as exc:
-        raise InputError(f"invalid JSON: {exc}", file=path,
+    except _Refused as exc:
+        entry = f"key {exc.key!r}" if exc.key is not None else _where(text, exc.token)
+        raise InputError(f"invalid JSON: {exc}", file=path, entry=entry,
                          fix="use finite numbers and unique keys (omit an entry to keep its default)")
+    except RecursionError:
+        raise InputError("invalid JSON: nested too deeply", file=path, fix="flatten the document")
     check_document(doc, kind, path)
     return doc
 
@@ -84,6 +130,6 @@ def _schema_problem(error, path) -> InputError:
 def json_value(text: str):
     """A --set value: JSON if it parses (numbers, true/false), else the plain string."""
     try:
-        return json.loads(text, parse_constant=_refuse_constant)
+        return strict_json(text)
     except ValueError:
         return text

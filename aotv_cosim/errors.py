@@ -17,8 +17,9 @@ class AotvError(Exception):
         self.fix = fix
 
     def __str__(self):
+        """One line: a multi-line cause (an FMU's traceback, a validator's report) is joined."""
         parts = [str(p) for p in (self.file, self.entry) if p]
-        text = ": ".join(parts + [self.cause])
+        text = ": ".join(parts + [" ".join(str(self.cause).split())])
         return f"{text}; {self.fix}" if self.fix else text
 
 

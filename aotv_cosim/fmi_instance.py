@@ -9,10 +9,12 @@ FMU are captured (last 50) so a failure can be reported with the FMU's own words
 import collections
 import ctypes
 import hashlib
+import itertools
 import os
 import shutil
 import sys
 import tempfile
+import weakref
 from pathlib import Path
 
 from fmpy import extract
@@ -24,6 +26,12 @@ from aotv_cosim import fmu_build
 from aotv_cosim.errors import SimulationError
 
 STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
+
+_LISTENERS = weakref.WeakValueDictionary()
+"""componentEnvironment number -> FmuInstance whose log it is. FMPy's logger proxy keeps one
+logger for the whole process (the last one registered), so each message is routed to its
+instance by the componentEnvironment the FMU passes back, not by the closure that receives it."""
+_NUMBERS = itertools.count(1)
 
 
 _DIGESTS = {}
@@ -90,11 +98,16 @@ class FmuInstance:
                    lambda: self.slave.setupExperiment(startTime=start_time, stopTime=stop_time))
 
     def _make_callbacks(self):
+        number = next(_NUMBERS)
+        _LISTENERS[number] = self
+
         def logger(env, instance, status, category, message):
             text = message.decode("utf-8", "replace") if message else ""
-            self.messages.append((STATUS.get(status, str(status)), text.strip()))
+            owner = _LISTENERS.get(env or 0, self)
+            owner.messages.append((STATUS.get(status, str(status)), text.strip()))
 
         callbacks = fmi2CallbackFunctions()
+        callbacks.componentEnvironment = number
         callbacks.logger = fmi2CallbackLoggerTYPE(logger)
         callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
@@ -123,7 +136,7 @@ class FmuInstance:
         self.broken = status is not None and status > 2 or status is None
         error = SimulationError(f"{what} at t = {time:.6g} s: {self.last_message()}",
                                 file=self.info.path.name, entry=where,
-                                fix="see the FMU's log above; the results up to this time are saved")
+                                fix="the results up to this time are saved; the FMU's log is in summary.json (error_detail.fmu_log)")
         error.component, error.time, error.variable = self.name, time, variable
         return error
 

@@ -28,6 +28,8 @@ PACKAGE_DIR = Path(__file__).resolve().parent
 RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "guidance_slave.py", "vehicle_slave.py",
            "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
+RUNTIME_PATTERNS = ("*.py", "*.csv")
+"""Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
@@ -62,7 +64,8 @@ def _runtime_files():
     for entry in RUNTIME:
         path = PACKAGE_DIR / entry
         if path.is_dir():
-            yield from sorted(p for p in path.rglob("*.py") if "__pycache__" not in p.parts)
+            yield from sorted(p for pattern in RUNTIME_PATTERNS for p in path.rglob(pattern)
+                              if "__pycache__" not in p.parts)
         else:
             yield path
 
@@ -155,6 +158,12 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
     members[BUILD_INFO] = (digest + "\n").encode()
+    write_reproducible_zip(out, members)
+
+
+def write_reproducible_zip(out: Path, members: dict) -> None:
+    """Write {name: bytes} to the zip `out` in sorted order with a fixed date and mode, so the
+    same members always give the same bytes (FMU and SSP archives)."""
     with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
         for name in sorted(members):
             info = zipfile.ZipInfo(name, date_time=ZIP_DATE)

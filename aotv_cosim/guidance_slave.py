@@ -1,18 +1,63 @@
-"""Adapter base of the open-loop guidance FMUs: a law solved from the measured entry state.
+"""Adapter bases of the guidance FMUs.
 
-The subclass says how to solve (`solve`) and how to command from the solution (`command`); this
+`EntryLatchedGuidance`: a law solved from the measured entry state, flown open loop. The subclass says how to solve (`solve`) and how to command from the solution (`command`); this
 base declares the measured entry-state inputs h, v, gamma, solves once per distinct entry state
 and parameter set while initializing (outputs read in initialization mode follow the inputs, as
 the master propagates the vehicle's entry state), latches the solution when initialization ends,
-and commands 0 after the law's final time. Bundled into the FMUs.
+and commands 0 after the law's final time. A solution whose solver did not converge stops the
+run with an error status and a log message naming the entry state, unless the parameter
+accept_unconverged is 1 (then it is flown, flagged by the law's `converged` output).
+
+`NominalTrackingGuidance`: a feedback law u = u_d(t) + du(x, t) about the optimal nominal of the
+2PBVP (3.21)-(3.22), which the FMU solves at initialization from its design entry
+(`guidance.tracking`). Bundled into the FMUs.
 """
 
+import math
+import time as clock
 from abc import abstractmethod
 
 from aotv_cosim.fmu_slave import AotvSlave
-from aotv_cosim.physics.planar import EXIT_000, K_BALL_000
+from aotv_cosim.guidance.optimal_bvp import solve_min_effort
+from aotv_cosim.physics import mrrv
+from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
+from aotv_cosim.physics.planar import ENTRY_000, EXIT_000, K_BALL_000, TF_000
 
 ENTRY = ("h", "v", "gamma")
+
+
+def declare_exit_targets(slave):
+    """Declare the exit targets hf, vf, gammaf on `slave`, default seed 000 Table 4.1 (exit 90 km,
+    8150 m/s, 0.0144 rad)."""
+    hf, vf, gammaf = EXIT_000
+    slave.parameter("hf", hf, "m", "Exit altitude target")
+    slave.parameter("vf", vf, "m/s", "Exit speed target")
+    slave.parameter("gammaf", gammaf, "rad", "Exit flight-path angle target")
+
+
+def declare_exit_targets_and_k(slave):
+    """Declare the exit targets and the ballistic parameter K_ball on `slave`; K defaults to eq.
+    (2.8), rho_s C_D0 / (2 m/S) = 2.92e-4 1/m."""
+    declare_exit_targets(slave)
+    slave.parameter("K_ball", K_BALL_000, "1/m", "Ballistic parameter K of eq. (2.8) used by the solve")
+
+
+def declare_plane_change_problem(slave):
+    """Parameters of the seed-001 plane change that a guidance FMU solves with: exit targets
+    (Sec. 3.7.2), MRRV polar and mass (Sec. 3.7.1) and the anchored atmosphere and planet
+    (extraction A2, A3). They must match the vehicle and Atmosphere FMUs of the system."""
+    p = slave.parameter
+    p("z_f", 60.0e3, "m", "Exit altitude target (Sec. 3.7.2)")
+    p("gamma_f", math.radians(1.0), "rad", "Exit flight-path angle target (Sec. 3.7.2)")
+    p("E_star", mrrv.E_STAR, "1", "Maximum lift-to-drag ratio E*")
+    p("CL_star", mrrv.CL_STAR, "1", "Lift coefficient at (L/D)max")
+    p("S_ref", mrrv.S_REF, "m2", "Reference area")
+    p("mass", mrrv.MASS, "kg", "Vehicle mass")
+    p("scale_height", mrrv.H_SCALE, "m", "Density scale height H_s (eq. 3.8)")
+    p("rho_ref", mrrv.RHO_REF, "kg/m3", "Density at the anchor altitude h_ref (extraction A2)")
+    p("h_ref", mrrv.Z_REF, "m", "Anchor altitude of the density")
+    p("R_e", mrrv.R_EARTH, "m", "Planet radius (extraction A3)")
+    p("mu", MU_EARTH, "m3/s2", "Gravitational parameter")
 
 
 class EntryLatchedGuidance(AotvSlave):
@@ -23,26 +68,23 @@ class EntryLatchedGuidance(AotvSlave):
         self.input("h", 90e3, "m", "Measured altitude (latched at initialization)")
         self.input("v", 8200.0, "m/s", "Measured speed (latched at initialization)")
         self.input("gamma", -0.02, "rad", "Measured flight-path angle (latched at initialization)")
+        self.integer_parameter("accept_unconverged", 0,
+                               "1: fly a solution whose solver did not converge; 0: stop with an error")
         self.time = 0.0
         self.latched = None
         self._cache_key = None
         self._cache = None
 
-    def exit_targets_and_k(self):
-        """Declare the exit targets hf, vf, gammaf and the ballistic parameter K_ball.
+    entry_inputs = ENTRY
+    """Inputs the solve reads (extended by laws that measure more at entry)."""
 
-        Defaults are seed 000 Table 4.1 (exit 90 km, 8150 m/s, 0.0144 rad) and K of eq. (2.8),
-        rho_s C_D0 / (2 m/S) = 2.92e-4 1/m.
-        """
-        hf, vf, gammaf = EXIT_000
-        self.parameter("hf", hf, "m", "Exit altitude target")
-        self.parameter("vf", vf, "m/s", "Exit speed target")
-        self.parameter("gammaf", gammaf, "rad", "Exit flight-path angle target")
-        self.parameter("K_ball", K_BALL_000, "1/m", "Ballistic parameter K of eq. (2.8) used by the solve")
+    def exit_targets_and_k(self):
+        """Declare hf, vf, gammaf and K_ball (`declare_exit_targets_and_k`)."""
+        declare_exit_targets_and_k(self)
 
     def solution_output(self, name, unit, description, getter):
         """Declare an output that depends on the entry state during initialization."""
-        self.output(name, unit, description, getter, initial_depends_on=ENTRY)
+        self.output(name, unit, description, getter, initial_depends_on=self.entry_inputs)
 
     @abstractmethod
     def solve(self):
@@ -63,7 +105,12 @@ class EntryLatchedGuidance(AotvSlave):
         key = tuple(getattr(self, v.name) for v in self.vars.values()
                     if v.causality.name in ("input", "parameter"))
         if key != self._cache_key:
-            self._cache = self.solve()
+            solution = self.solve()
+            if not getattr(solution, "converged", True) and not self.accept_unconverged:
+                raise RuntimeError(f"{type(self).__name__}: the guidance solver did not converge for the entry "
+                                   f"state h = {self.h:.6g} m, v = {self.v:.6g} m/s, gamma = {self.gamma:.6g} "
+                                   "rad; check the exit targets, or set accept_unconverged = 1 to fly it")
+            self._cache = solution
             self._cache_key = key
         return self._cache
 
@@ -83,5 +130,89 @@ class EntryLatchedGuidance(AotvSlave):
 
     def advance(self, current_time, step_size):
         """The FMU's do_step body: the command is a function of time only."""
+        self.time = current_time + step_size
+        return True
+
+
+class NominalTrackingGuidance(AotvSlave):
+    """Feedback guidance u = u_d(t) + du(x, t) on [t0, t0 + tf], 0 afterwards.
+
+    The nominal (u_d, x_d) is the fixed-tf minimum-effort optimum from the design entry
+    (h0_nom, v0_nom, gamma0_nom) to (hf, vf, gammaf) with K_ball, solved at initialization; the
+    subclass builds the law from it (`design`, a `guidance.tracking` law). Inputs h, v, gamma are
+    the measured state, read at every step (direct feedthrough to u and du).
+    """
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        h0, v0, gamma0 = ENTRY_000
+        self.parameter("h0_nom", h0, "m", "Design entry altitude of the nominal trajectory")
+        self.parameter("v0_nom", v0, "m/s", "Design entry speed of the nominal trajectory")
+        self.parameter("gamma0_nom", gamma0, "rad", "Design entry flight-path angle of the nominal")
+        self.parameter("tf", TF_000, "s", "Fixed final time of the nominal")
+        declare_exit_targets_and_k(self)
+        self.input("h", h0, "m", "Measured altitude")
+        self.input("v", v0, "m/s", "Measured speed")
+        self.input("gamma", gamma0, "rad", "Measured flight-path angle")
+        self.time = 0.0
+        self._law = None
+        self._solve_time = 0.0
+        self._converged = False
+
+    def law_outputs(self):
+        """Declare u, du, the nominal's altitude, solve_time and converged (call last in __init__)."""
+        out = self.output
+        out("u", "m/s2", "Lift acceleration command u_d + du", self.current_command, depends_on=ENTRY)
+        out("du", "m/s2", "Feedback correction du", self.current_correction, depends_on=ENTRY)
+        out("h_nom", "m", "Altitude of the nominal trajectory now", self._nominal_altitude)
+        out("solve_time", "s", "Wall-clock time of the nominal 2PBVP solve and gain design",
+            lambda: self.law()[1])
+        out("converged", "1", "1 if the nominal 2PBVP converged, else 0",
+            lambda: 1.0 if self.law()[2] else 0.0)
+
+    @abstractmethod
+    def design(self, nominal):
+        """The `guidance.tracking` law object about the nominal 2PBVP solution (subclass)."""
+
+    def law(self):
+        """(law, solve time s, converged), solved once per initialization."""
+        if self._law is None:
+            start = clock.perf_counter()
+            nominal = solve_min_effort((self.h0_nom, self.v0_nom, self.gamma0_nom),
+                                       (self.hf, self.vf, self.gammaf), self.tf, self.K_ball)
+            self._law = (self.design(nominal), clock.perf_counter() - start, nominal.success)
+        return self._law
+
+    def _elapsed(self):
+        return self.time - self.start_time
+
+    def _active(self):
+        return self._elapsed() <= self.tf * (1.0 + 1e-12)
+
+    def _state(self):
+        return (self.h, self.v, self.gamma)
+
+    def current_correction(self):
+        if not self._active():
+            return 0.0
+        return float(self.law()[0].delta_u(self._elapsed(), self._state()))
+
+    def current_command(self):
+        if not self._active():
+            return 0.0
+        law = self.law()[0]
+        return float(law.nominal.u(self._elapsed())) + self.current_correction()
+
+    def _nominal_altitude(self):
+        return float(self.law()[0].nominal.state(min(self._elapsed(), self.tf))[0] - R_EARTH_000)
+
+    def enter_initialization_mode(self):
+        self._law = None
+        self.time = self.start_time
+
+    def advance(self, current_time, step_size):
+        """The FMU's do_step body: the law's own state moves over the step, then the clock."""
+        if self._active():
+            self.law()[0].advance(self._elapsed(), step_size, self._state())
         self.time = current_time + step_size
         return True

@@ -1,7 +1,8 @@
 """Monolithic reference: the same physics modules integrated by SciPy in one ODE system.
 
-For systems whose guidance is a function of time and the entry state (flown open loop), the
-co-simulation's only approximation is the coupling: inputs held over each communication step.
+For systems whose guidance is a function of time, the entry state and the current state (open
+loop or static feedback), the co-simulation's only approximation is the coupling: inputs held over
+each communication step.
 This reference integrates the vehicle equations (`physics.point_mass.derivatives`) with the
 density evaluated continuously and the command evaluated at every instant (solve_ivp, DOP853,
 tight tolerances), so `co-simulation - reference` measures the coupling error. The parameters are
@@ -15,10 +16,14 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from aotv_cosim.errors import InputError
+from aotv_cosim.guidance.optimal_bvp import solve_min_effort
+from aotv_cosim.guidance.predictive import solve_predictive, solve_predictive_adaptive
 from aotv_cosim.guidance.time_linear import approximate_law_coefficients
+from aotv_cosim.guidance.tracking import InfiniteLqrLaw, RobustLaw, TerminalLqrLaw
 from aotv_cosim.physics import aero, point_mass
 from aotv_cosim.physics.actuator import saturate
-from aotv_cosim.physics.atmosphere import exponential_density
+from aotv_cosim.physics.atmosphere import density_dispersion, exponential_density
+from aotv_cosim.physics.constants import R_EARTH_000
 
 
 def effective_parameters(component) -> dict:
@@ -39,8 +44,68 @@ def _time_linear_command(params, entry, start):
     return lambda t, x: a + b * (t - start) if t - start <= tf * (1.0 + 1e-12) else 0.0
 
 
-GUIDANCE = {"TimeLinearGuidance": _time_linear_command}
-"""Guidance FMUs the reference can reproduce: name -> builder of u(t, x) in m/s^2."""
+def _until(final_time, start, law):
+    """u(t, x) = law(t - start, x) while t - start <= final_time, else 0 (the FMUs' convention)."""
+    return lambda t, x: law(t - start, x) if t - start <= final_time * (1.0 + 1e-12) else 0.0
+
+
+def _exit_target(params):
+    return params["hf"], params["vf"], params["gammaf"]
+
+
+def _optimal_command(params, entry, start):
+    """u(t) of OptimalGuidance: the 2PBVP (3.21)-(3.22) solution from the entry state, eq. (3.20)."""
+    sol = solve_min_effort((entry["h"], entry["v"], entry["gamma"]), _exit_target(params), params["tf"],
+                           params["K_ball"], free_exit_velocity=bool(params["free_exit_velocity"]))
+    return _until(params["tf"], start, lambda s, x: float(sol.u(s)))
+
+
+def _linear(sol, start):
+    return _until(sol.tf, start, lambda s, x: sol.a + sol.b * s)
+
+
+def _predictive_command(params, entry, start):
+    """u(t) of PredictiveGuidance: (a, b, tf') of Ch. 6 from the entry state."""
+    return _linear(solve_predictive((entry["h"], entry["v"], entry["gamma"]), _exit_target(params),
+                                    params["K_ball"]), start)
+
+
+def _predictive_adaptive_command(params, entry, start):
+    """u(t) of PredictiveAdaptiveGuidance: K from the entry drag (8.1), then (a, b, tf')."""
+    drag = aero.parasite_drag_acceleration(entry["rho"], entry["v"], params["CD0"], params["mass_per_area"])
+    _k, sol = solve_predictive_adaptive((entry["h"], entry["v"], entry["gamma"]), drag, _exit_target(params))
+    return _linear(sol, start)
+
+
+def _tracking(build):
+    """Builder of u(t, x) = u_d + du for a NominalTrackingGuidance whose law is build(params, nominal)."""
+    def builder(params, entry, start):
+        nominal = solve_min_effort((params["h0_nom"], params["v0_nom"], params["gamma0_nom"]),
+                                   _exit_target(params), params["tf"], params["K_ball"])
+        law = build(params, nominal)
+        return _until(params["tf"], start, lambda s, x: float(nominal.u(s)) + law.delta_u(
+            s, (x[0] - R_EARTH_000, x[3], x[4])))
+    return builder
+
+
+def _weights(params, prefix):
+    return tuple(params[f"{prefix}_{k}"] for k in ("r", "v", "gamma"))
+
+
+GUIDANCE = {
+    "TimeLinearGuidance": _time_linear_command,
+    "OptimalGuidance": _optimal_command,
+    "PredictiveGuidance": _predictive_command,
+    "PredictiveAdaptiveGuidance": _predictive_adaptive_command,
+    "InfiniteLqrGuidance": _tracking(lambda p, nom: InfiniteLqrLaw(
+        nom, R_EARTH_000, p["K_ball"], _weights(p, "Q"), p["R_u"])),
+    "TerminalLqrGuidance": _tracking(lambda p, nom: TerminalLqrLaw(
+        nom, R_EARTH_000, p["K_ball"], p["tf"], _weights(p, "Q"), p["R_u"], _weights(p, "V"))),
+    "RobustGuidance": _tracking(lambda p, nom: RobustLaw(nom, R_EARTH_000)),
+}
+"""Guidance FMUs the reference can reproduce: name -> builder of u(t, x) in m/s^2, x the vehicle
+state of `physics.point_mass` (r, theta, phi, v, gamma, psi). AdaptiveGuidance is absent: its gain
+is a state advanced once per communication step, not a function of (t, x)."""
 
 
 @dataclass
@@ -85,7 +150,12 @@ def reference_run(scenario, rtol=1e-12, atol=None) -> ReferenceResult:
     if guidance is None:
         raise InputError("no guidance the reference can reproduce", file=system.path, entry="components",
                          fix=f"use one of {', '.join(GUIDANCE)}")
-    entry = {"h": vp["h0"], "v": vp["v0"], "gamma": vp["gamma0"]}
+    def density(t, h):
+        factor = density_dispersion(t - scenario.start, ap["density_factor"], ap["noise_amplitude"],
+                                    ap["noise_interval"], ap["noise_seed"])
+        return factor * exponential_density(h, ap["rho_ref"], ap["h_ref"], ap["scale_height"])
+
+    entry = {"h": vp["h0"], "v": vp["v0"], "gamma": vp["gamma0"], "rho": density(scenario.start, vp["h0"])}
     command = GUIDANCE[guidance.fmu.model_identifier](effective_parameters(guidance), entry, scenario.start)
     actuate = _actuator_map(system)
     cd_s_m = vp["CD0"] / vp["mass_per_area"]
@@ -94,7 +164,7 @@ def reference_run(scenario, rtol=1e-12, atol=None) -> ReferenceResult:
 
     def rhs(t, y):
         x = y[:6]
-        rho = exponential_density(x[0] - R_e, ap["rho_ref"], ap["h_ref"], ap["scale_height"])
+        rho = density(t, x[0] - R_e)
         u = actuate(command(t, x))
         dx = point_mass.derivatives(x, rho, u, 0.0, cd_s_m, *consts)
         return [*dx, u, abs(u), u * u]

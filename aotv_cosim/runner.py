@@ -32,6 +32,7 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
 
     master = Master(scenario, record, progress)
     outcome = master.run()
+    _attach_fmu_log(outcome, master)
     columns = recorded_columns(scenario)
     if writer is None:  # failed before the first row: still leave a readable, empty series
         writer = TimeSeriesWriter(out_dir, [], {})
@@ -45,6 +46,7 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
         "description": scenario.description,
         "status": outcome.status,
         "stop_reason": outcome.stop_reason,
+        "warnings": _warnings(scenario, outcome),
         "error": outcome.error,
         "error_detail": outcome.error_detail,
         "event": outcome.event,
@@ -69,3 +71,19 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
                              for spec in scenario.plots]
     write_json_atomically(out_dir / "summary.json", summary)
     return summary
+
+
+def _attach_fmu_log(outcome, master):
+    """Add the failing component's log messages ('status: text', oldest first) to error_detail."""
+    detail = outcome.error_detail
+    instance = master.instances.get(detail.get("component")) if detail else None
+    if instance is not None:
+        detail["fmu_log"] = [f"{status}: {' '.join(text.split())}" for status, text in instance.messages]
+
+
+def _warnings(scenario, outcome):
+    """What a completed run did not do that the scenario asked for: a stop condition never met."""
+    if outcome.status != "completed" or not scenario.stop_conditions or outcome.event is not None:
+        return []
+    conditions = ", ".join(f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)
+    return [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]

@@ -1,11 +1,16 @@
 """Scenario file -> validated Scenario: system, times, overrides, stop conditions, records, checks."""
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from aotv_cosim.documents import load_document
 from aotv_cosim.errors import InputError, raise_if_any
 from aotv_cosim.system import System, load_system
+
+
+MAX_STEPS = 1e9
+"""Most communication points a scenario may ask for: more is a typing error (a step in ms, not s)."""
 
 
 @dataclass(frozen=True)
@@ -107,15 +112,13 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
     else:
         doc = load_document(path, "scenario")
     system_path = (path.parent / doc["system"]).resolve()
+    if not system_path.is_file():
+        problem = "is a folder" if system_path.is_dir() else "not found"
+        raise InputError(f"wiring file {problem}: {system_path}", file=path, entry="system",
+                         fix="give the wiring file's path relative to the scenario")
     overrides = dict(doc.get("parameters", {}))
-    try:
-        system = load_system(system_path, overrides, overrides_file=path) if not sets else \
-            load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
-    except InputError as exc:
-        if exc.cause == "file not found" and Path(str(exc.file)) == system_path:
-            raise InputError(f"wiring file not found: {system_path}", file=path, entry="system",
-                             fix="give the wiring file's path relative to the scenario") from exc
-        raise
+    system = load_system(system_path, overrides, overrides_file=path) if not sets else \
+        load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
     scenario = Scenario(
         path=path, system=system, start=float(doc.get("start", 0.0)), stop=float(doc["stop"]),
         step=float(step if step is not None else _step_options(doc)["size"]),
@@ -147,12 +150,21 @@ def _step_options(doc) -> dict:
 
 def _check_times(s: Scenario):
     problems = []
-    if not s.step > 0:
+    if not math.isfinite(s.step) or not s.step > 0:
         problems.append(InputError(f"step must be positive, got {s.step}", file=s.path, entry="step",
                                    fix="give a communication step in s, e.g. 0.1"))
-    if not s.stop > s.start:
+    elif not s.stop > s.start:
         problems.append(InputError(f"stop ({s.stop}) must be after start ({s.start})", file=s.path,
                                    entry="stop", fix="give a stop time later than the start time"))
+    elif (s.stop - s.start) / s.step > MAX_STEPS:
+        problems.append(InputError(f"(stop - start) / step = {(s.stop - s.start) / s.step:.3g} "
+                                   f"communication points, more than {MAX_STEPS:.0e}", file=s.path,
+                                   entry="step", fix="give a larger step or a shorter time span"))
+    for k, e in enumerate(s.expectations):
+        if not isinstance(e.at, str) and not s.start <= e.at <= s.stop:
+            problems.append(InputError(f"time {e.at} s is outside the run [{s.start}, {s.stop}] s",
+                                       file=s.path, entry=f"expectations[{k}].at",
+                                       fix="give a time between start and stop, or end/min/max/event"))
     raise_if_any(problems)
 
 

@@ -9,6 +9,7 @@ output depends on the density input does not form a loop with the atmosphere who
 depends on the vehicle's altitude: only chains of same-instant dependencies do.
 """
 
+import difflib
 import math
 import zipfile
 from dataclasses import dataclass, field
@@ -122,22 +123,34 @@ class System:
         return order
 
 
-def resolve_fmu(ref: str, base: Path) -> Path:
+def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
     """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
     if ref.endswith(".fmu"):
         return (base / ref).resolve()
+    names = fmu_build.available_fmus()
+    if ref not in names:
+        close = difflib.get_close_matches(ref, names, n=3)
+        hint = f"did you mean {' or '.join(close)}? " if close else ""
+        raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
+                         fix=f"{hint}give a path to a .fmu file (relative to the wiring file) "
+                             f"or one of {', '.join(names)}")
     return fmu_build.ensure_fmu(ref)
 
 
-def check_archive(path: Path) -> None:
-    """Refuse an FMU archive whose member names are absolute or climb out with '..'."""
+def check_archive(path: Path, *, file=None, entry=None) -> None:
+    """Refuse an FMU or SSP archive whose member names are absolute or climb out with '..'.
+
+    The error names `file` and `entry` (the document that refers to the archive) when given,
+    else the archive itself. A file that is not a zip archive raises zipfile.BadZipFile.
+    """
     with zipfile.ZipFile(path) as archive:
         for name in archive.namelist():
             pure = PurePosixPath(name.replace("\\", "/"))
             drive = bool(pure.parts) and ":" in pure.parts[0]
             if pure.is_absolute() or ".." in pure.parts or drive:
-                raise InputError(f"archive member {name!r} escapes the extraction folder", file=path,
-                                 fix="rebuild the FMU with relative member names")
+                raise InputError(f"member {name!r} of {Path(path).name} escapes the extraction folder",
+                                 file=file or path, entry=entry,
+                                 fix="rebuild the archive with relative member names")
 
 
 def read_fmu(path: Path, *, file, entry) -> FmuInfo:
@@ -146,10 +159,9 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
         raise InputError(f"FMU file not found: {path}", file=file, entry=entry,
                          fix="correct the path (relative to the wiring file) or build the FMU")
     try:
-        check_archive(path)
+        check_archive(path, file=file, entry=entry)
         md = read_model_description(str(path))
-    except InputError as exc:
-        exc.entry = entry
+    except InputError:
         raise
     except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
         raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
@@ -178,17 +190,21 @@ def _dependencies(unknowns, inputs):
     return deps
 
 
-def parse_connection(text: str) -> Connection:
-    left, right = (s.strip() for s in text.split("->"))
-    source, output = left.split(".", 1)
-    target, inp = right.split(".", 1)
+def parse_connection(text: str, *, file=None, entry=None) -> Connection:
+    """'source.output -> target.input' (as the schema checked it) -> Connection."""
+    sides = [s.strip() for s in text.split("->")]
+    if len(sides) != 2 or not all("." in side for side in sides):
+        raise InputError(f"cannot read connection {text!r}", file=file, entry=entry,
+                         fix="write one 'source.output -> target.input' per entry")
+    source, output = sides[0].split(".", 1)
+    target, inp = sides[1].split(".", 1)
     return Connection(source, output, target, inp)
 
 
 def check_value(var: Variable, value, *, file, entry):
     """Problems with giving `value` to variable `var` (type, finiteness, causality)."""
     if var.causality not in ("parameter", "input"):
-        return [InputError(f"{var.name} is an {var.causality}, it cannot be given a value",
+        return [InputError(f"{var.name} is {_a(var.causality)} {var.causality}, it cannot be given a value",
                            file=file, entry=entry, fix="set a parameter or an unconnected input")]
     ok = {"Real": isinstance(value, (int, float)) and not isinstance(value, bool),
           "Integer": isinstance(value, int) and not isinstance(value, bool),
@@ -196,11 +212,19 @@ def check_value(var: Variable, value, *, file, entry):
           "String": isinstance(value, str)}.get(var.type, False)
     if not ok:
         return [InputError(f"{var.name} is {var.type}, got {value!r}", file=file, entry=entry,
-                           fix=f"give a {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
+                           fix=f"give {_a(var.type)} {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
     if var.type == "Real" and not math.isfinite(value):
         return [InputError(f"{var.name} must be finite, got {value!r}", file=file, entry=entry,
                            fix="give a finite number")]
+    if var.type == "Integer" and not -2**31 <= value < 2**31:
+        return [InputError(f"{var.name} is a 32-bit Integer, got {value}", file=file, entry=entry,
+                           fix="give an integer between -2147483648 and 2147483647")]
     return []
+
+
+def _a(word: str) -> str:
+    """The indefinite article for `word` ('an output', 'a parameter')."""
+    return "an" if word[:1].lower() in "aeiou" else "a"
 
 
 def load_system(path, overrides=None, overrides_file=None) -> System:
@@ -222,7 +246,7 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
     for name, spec in doc["components"].items():
         entry = f"components.{name}.fmu"
         try:
-            fmu_path = resolve_fmu(spec["fmu"], base)
+            fmu_path = resolve_fmu(spec["fmu"], base, file=path, entry=entry)
             info = read_fmu(fmu_path, file=path, entry=entry)
         except AotvError as exc:
             exc.file = exc.file or path
@@ -251,9 +275,14 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
 
     connections = []
     for k, text in enumerate(doc["connections"]):
-        conn = parse_connection(text)
+        entry = f"connections[{k}] '{text}'"
+        try:
+            conn = parse_connection(text, file=path, entry=entry)
+        except InputError as exc:
+            problems.append(exc)
+            continue
         connections.append(conn)
-        problems += _check_connection(conn, components, path, f"connections[{k}] '{text}'")
+        problems += _check_connection(conn, components, path, entry)
     raise_if_any(problems)
 
     system = System(path, components, connections)
@@ -271,9 +300,11 @@ def _unknown_component(name, components, file, entry):
 def _check_known(comp, var, file, entry):
     if var in comp.fmu.variables:
         return []
-    names = [v for v in comp.fmu.variables]
-    return [InputError(f"{comp.fmu.path.name} has no variable {var!r}", file=file, entry=entry,
-                       fix=f"use one of {', '.join(names)}")]
+    names = list(comp.fmu.variables)
+    close = difflib.get_close_matches(var, names, n=3)
+    hint = f"did you mean {' or '.join(close)}? " if close else ""
+    return [InputError(f"{comp.name} ({Path(comp.fmu_ref).name}) has no variable {var!r}", file=file, entry=entry,
+                       fix=f"{hint}its variables are {', '.join(names)}")]
 
 
 def _check_connection(conn, components, file, entry):
@@ -289,7 +320,7 @@ def _check_connection(conn, components, file, entry):
         actual = components[comp].fmu.variables[var].causality
         if actual != causality:
             side = "source" if causality == "output" else "target"
-            problems.append(InputError(f"{comp}.{var} is an {actual}, the {side} must be an {causality}",
+            problems.append(InputError(f"{comp}.{var} is {_a(actual)} {actual}, the {side} must be an {causality}",
                                        file=file, entry=entry, fix="connect an output to an input"))
     if problems:
         return problems

@@ -50,6 +50,9 @@ class VehicleSlave(AotvSlave):
         p("R_e", self.default_r_e, "m", "Planet radius")
         self.integer_parameter("gravity_model", self.default_gravity,
                                "0: constant g0 (seed 000); 1: inverse square mu/r^2")
+        self.integer_parameter("heading_model", point_mass.HEADING_FULL,
+                               "0: full 3-D heading equation; 1: seed 001 reduced, eq. (3.23) "
+                               "(no tan(phi) term)")
         p("g0", constants.G0, "m/s2", "Constant gravity (gravity_model 0) and load-factor unit")
         p("mu", constants.MU_EARTH, "m3/s2", "Gravitational parameter (gravity 1 and orbit outputs)")
         p("max_substep", 0.5, "s", "Longest RK4 substep inside one communication step")
@@ -105,7 +108,8 @@ class VehicleSlave(AotvSlave):
 
     def advance(self, step_size):
         """The FMU's do_step body: integrate over step_size (s); False when the state is not finite."""
-        args = (self.rho, *self.aero_forces(), self.sigma, self.gravity_model, self.g0, self.mu)
+        args = (self.rho, *self.aero_forces(), self.sigma, self.gravity_model, self.g0, self.mu,
+                self.heading_model)
         self.x = point_mass.integrate(self.x, step_size, self.max_substep, args)
         return all(map(math.isfinite, self.x))
 

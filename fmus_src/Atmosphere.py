@@ -1,25 +1,45 @@
-"""Atmosphere FMU: exponential density rho(h), seed 000 eq. (2.5)."""
+"""Atmosphere FMU: exponential density rho(h), seed 000 eq. (2.5), with density dispersions."""
 
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.physics import constants
-from aotv_cosim.physics.atmosphere import exponential_density
+from aotv_cosim.physics.atmosphere import density_dispersion, exponential_density
 
 
 class Atmosphere(AotvSlave):
-    """rho = rho_ref exp(-(h - h_ref)/H); defaults are seed 000 Table 4.1 (1.752 kg/m^3 at 0 m, 7045 m)."""
+    """rho = f(t) rho_ref exp(-(h - h_ref)/H); defaults are seed 000 Table 4.1 (1.752 kg/m^3 at 0 m,
+    7045 m) and no dispersion.
 
-    description = "Exponential atmosphere density rho(h) (seed 000 eq. 2.5)"
+    f(t) = density_factor (1 + noise_amplitude U_k) (`physics.atmosphere.density_dispersion`): a
+    constant factor, and/or uniform noise resampled every noise_interval seconds of elapsed time,
+    drawn by numpy.random.Generator from SeedSequence((noise_seed, k)), so a seed gives the same
+    history at any communication step. Scaling rho scales the ballistic parameter K of eq. (2.8):
+    seed 000 Chs. 7-8 "K about +-20 % of nominal".
+    """
+
+    description = "Exponential atmosphere density rho(h) (seed 000 eq. 2.5) with seeded density dispersions"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.parameter("rho_ref", constants.RHO_S_000, "kg/m3", "Density at the reference altitude")
         self.parameter("h_ref", 0.0, "m", "Reference altitude")
         self.parameter("scale_height", constants.H_SCALE_000, "m", "Density scale height H")
+        self.parameter("density_factor", 1.0, "1", "Constant density multiplier (K bias, e.g. 0.8 or 1.2)")
+        self.parameter("noise_amplitude", 0.0, "1",
+                       "Half-width of the uniform density noise, relative (0.2: +-20 %; 0: none)")
+        self.parameter("noise_interval", 0.1, "s", "Time between two noise samples")
+        self.integer_parameter("noise_seed", 0, "Seed (>= 0) of the density noise")
         self.input("h", 0.0, "m", "Geometric altitude above the reference sphere")
         self.output("rho", "kg/m3", "Air density at h", self._density, depends_on=("h",))
+        self.time = 0.0
 
     def _density(self):
-        return exponential_density(self.h, self.rho_ref, self.h_ref, self.scale_height)
+        factor = density_dispersion(self.time - self.start_time, self.density_factor,
+                                    self.noise_amplitude, self.noise_interval, self.noise_seed)
+        return factor * exponential_density(self.h, self.rho_ref, self.h_ref, self.scale_height)
+
+    def enter_initialization_mode(self):
+        self.time = self.start_time
 
     def do_step(self, current_time, step_size):
+        self.time = current_time + step_size
         return True

@@ -1,6 +1,6 @@
 """PointMassVehicle FMU: seed-000 AOTV, lift acceleration and bank inputs, parasite drag."""
 
-from aotv_cosim.physics import aero, constants
+from aotv_cosim.physics import constants
 from aotv_cosim.vehicle_slave import VehicleSlave
 
 

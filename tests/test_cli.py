@@ -68,7 +68,7 @@ BAD_WIRING = {
                                     w["connections"].append("actuator.position -> actuator.command")),
                          "algebraic loop"),
     "wrong causality": (lambda w: w["connections"].append("vehicle.h0 -> atmosphere.h"),
-                        "is an parameter, the source must be an output"),
+                        "is a parameter, the source must be an output"),
     "wrong type": (lambda w: w["components"]["vehicle"]["parameters"].update(h0="high"),
                    "h0 is Real, got 'high'"),
 }

@@ -148,3 +148,21 @@ def test_entry_orbit_apsides():
     assert apogee == pytest.approx(1402.0e3, abs=50.0)
     assert perigee == pytest.approx(74.7e3, abs=50.0)
     assert circularization_delta_v(90e3, 8200.0, -0.02) == pytest.approx(341.9, abs=0.05)
+
+
+def test_time_linear_variational_matches_dynamics_and_jacobian():
+    """The scalar right-hand side used by the shooting solver is (2.7) plus dS/dt = A S + B (1, t)
+    with A, B of (5.2)/(5.3), to rounding, in SI and in km-s units."""
+    rng = np.random.default_rng(4)
+    for c in (planar.AotvConstants.si(), planar.AotvConstants.km()):
+        scale = 1.0 if c.r_earth > 1e5 else 1e-3
+        for _ in range(5):
+            x = np.array([c.r_earth + rng.uniform(75e3, 95e3) * scale, rng.uniform(8.0e3, 8.3e3) * scale,
+                          rng.uniform(-0.03, 0.03)])
+            sens = rng.normal(size=(3, 2))
+            a, b, t = 0.7 * scale, -2.5e-3 * scale, rng.uniform(0.0, 300.0)
+            got = planar.time_linear_variational(t, np.concatenate([x, sens.ravel()]), a, b, c)
+            u = a + b * t
+            expected_s = planar.jacobian_a(x, u, c) @ sens + np.outer(planar.input_b(x), [1.0, t])
+            np.testing.assert_allclose(got[:3], planar.dynamics(x, u, c), rtol=1e-13, atol=1e-18)
+            np.testing.assert_allclose(got[3:], expected_s.ravel(), rtol=1e-12, atol=1e-15)

@@ -11,7 +11,7 @@ import pytest
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
 from aotv_cosim.guidance.predictive import (
     TF_INTERCEPT_CORRECTED, TF_INTERCEPT_PRINTED, estimate_k_ball, fly_time_linear,
-    solve_predictive, solve_predictive_thesis, table_8_1_fit,
+    solve_predictive, solve_predictive_adaptive, solve_predictive_thesis, table_8_1_fit,
 )
 from aotv_cosim.guidance.time_linear import time_linear_integrals
 from aotv_cosim.physics.planar import ENTRY_000, EXIT_000, K_BALL_000, AotvConstants, dynamics
@@ -198,3 +198,21 @@ def test_fit_8_3_is_an_approximate_line():
     fitted = np.array([table_8_1_fit(r[0])[1] for r in TABLE_8_1])
     assert np.max(np.abs(fitted / bs - 1)) == pytest.approx(0.018, abs=1e-3)
 
+
+
+@pytest.mark.parametrize("factor", [0.8, 1.2])
+def test_predictive_adaptive_estimates_k_and_resolves(factor):
+    """Sec. 8.1: from the drag measured at entry, (8.1) recovers the plant's K and the law is the
+    predictive solution for that K; K x 0.8 is Table 8.1 row 1 (a 0.633419, tf 332.22 s, within
+    the Sec. 6.9 tolerances 1 % and 1.5 s)."""
+    k = factor * K_BALL_000
+    h0, v0, gamma0 = ENTRY_000
+    c = AotvConstants.si(k)
+    drag = k * np.exp(-h0 / c.scale_height) * v0 ** 2
+    k_est, sol = solve_predictive_adaptive(ENTRY_000, drag)
+    assert k_est == pytest.approx(k, rel=1e-12)
+    direct = solve_predictive(ENTRY_000, k_ball=k)
+    assert sol.converged and (sol.a, sol.b, sol.tf) == pytest.approx((direct.a, direct.b, direct.tf), rel=1e-9)
+    if factor == 0.8:
+        assert sol.a == pytest.approx(TABLE_8_1[0][1], rel=0.01)
+        assert sol.tf == pytest.approx(TABLE_8_1[0][3], abs=1.5)

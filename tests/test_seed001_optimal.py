@@ -15,6 +15,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 from aotv_cosim.guidance import mae
+from aotv_cosim.plane_change_plots import optimal_in_mae_units
 from aotv_cosim.guidance.plane_change_optimal import (
     PlaneChangeProblem, heading_rates, solve_optimal,
 )
@@ -74,12 +75,14 @@ def test_entry_costates_and_mae_costates(optimum):
     """[V] 9.3/9.5: optimal costates at entry in the MAE normalization (J = u_f, g_s r_s from
     z_min) are P_u = 0.779, P_gamma = 0.027, P_psi = 0.634. The zeroth-order MAE composite gives
     (0.755, -0.0005, 0.624): P_u and P_psi within 2-3 %, P_gamma is where the zeroth order is
-    weak ([R] Sec. 4.3, Fig. 4.2)."""
+    weak ([R] Sec. 4.3, Fig. 4.2). The conversion is the one of the Figs. 3.13-3.14 plots, with the
+    transversality P_u(exit) = 1 (3.116)."""
     gs_rs = PROBLEM.mu_earth / (PROBLEM.r_earth + optimum.z.min())
-    to_u = 2.0 * optimum.v_f / gs_rs
-    p_u = optimum.p_v[0] * optimum.v_f / PROBLEM.v_i
-    p_gamma, p_psi = optimum.p_gamma[0] * to_u, optimum.p_psi[0] * to_u
+    p_psi = optimum.p_psi[0] * 2.0 * optimum.v_f / gs_rs
+    p_us, p_gammas, _ = optimal_in_mae_units(optimum)
+    p_u, p_gamma = p_us[0], p_gammas[0]
     assert [p_u, p_gamma, p_psi] == pytest.approx([0.779, 0.027, 0.634], abs=6e-4)
+    assert p_us[-1] == pytest.approx(1.0, rel=1e-12)
 
     state = mae.State(PROBLEM.r_earth + PROBLEM.z_i, PROBLEM.v_i, PROBLEM.gamma_i, 0.0)
     k = mae.solve(state, mae.Targets(PROBLEM.z_f, PROBLEM.gamma_f, PROBLEM.dpsi)).constants

@@ -284,6 +284,14 @@ class MaeConstants:
         p_gamma = side.p_gamma(h) + self.inner.p_gamma(psi) - side.p_gamma0
         return u, gamma, p_u, p_gamma
 
+    def exit_speed(self, r_f: float, psi_f: float) -> float:
+        """Composite prediction of the exit speed V_f (m/s) at radius r_f (m), heading psi_f (rad).
+
+        u_c(h_f) of (3.100) on the right side, V = sqrt(u g_s r_s) (3.12); the value (3.54) maximizes.
+        """
+        u_f = self.composite(self.right, (r_f - self.r_s) / self.r_s, psi_f)[0]
+        return float(math.sqrt(u_f * self.gs_rs))
+
     def unknowns(self, psi: float) -> np.ndarray:
         """Outer-Newton unknowns (gamma_L, v_L, gamma_R, P_vR) for a warm start at heading psi (rad).
 
@@ -509,23 +517,20 @@ def solve(state: State, targets: Targets, previous: "MaeSolution | None" = None,
     return MaeSolution(k, True, iterations, residual, time.perf_counter() - t0, mode)
 
 
-def controls(k: MaeConstants, r: float, v: float, gamma: float, psi: float,
-             measured_u_in_p_u: bool = False):
-    """Feedback (lambda, bank mu) from the held constants and the measured state (Sec. 3.8.1).
+def composite_costates(k: MaeConstants, r: float, v: float, gamma: float, psi: float,
+                       measured_u_in_p_u: bool = False):
+    """(u, P_u, P_gamma, P_psi) at the measured state from the held constants (Sec. 3.8.1).
 
-    r in m, v in m/s, gamma and psi in rad; the bank angle is returned in rad.
-    h = (r - r_s)/r_s (3.11), u = V^2/(g_s r_s) (3.12); composite costates (3.105)-(3.110)
-    with the measured psi in (3.64) (A16), the left
-    outer solution while gamma < 0 in the entry phase, the right one otherwise; then (3.26)-(3.27)
-    with the measured gamma and u. measured_u_in_p_u selects the measured u instead of
-    u_0^i(psi) in the inner P_u (extraction A17).
+    r in m, v in m/s, gamma and psi in rad. h = (r - r_s)/r_s (3.11), u = V^2/(g_s r_s) (3.12);
+    composite costates (3.105)-(3.110) with the measured psi in (3.64) (A16), the left outer
+    solution while gamma < 0 in the entry phase, the right one otherwise; P_psi = a3 (3.107).
+    measured_u_in_p_u selects the measured u instead of u_0^i(psi) in the inner P_u (A17).
     """
     h = (r - k.r_s) / k.r_s
     u = v * v / k.gs_rs
     side = k.side(k.mode == ENTRY and gamma < 0.0)
     _, _, p_u, p_gamma = k.composite(side, h, psi, u if measured_u_in_p_u else None)
-    lam, bank = control_from_costates(u, gamma, p_u, p_gamma, k.inner.p_psi, k.e_star)
-    return float(lam), float(bank)
+    return u, float(p_u), float(p_gamma), k.inner.p_psi
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ from scipy.integrate import solve_ivp
 
 from aotv_cosim.guidance.time_linear import closed_form_gamma_rate
 from aotv_cosim.physics.planar import (
-    EXIT_000, K_BALL_000, AotvConstants, dynamics, input_b, jacobian_a,
+    EXIT_000, K_BALL_000, AotvConstants, dynamics, time_linear_variational,
 )
 
 RTOL = 1e-10
@@ -63,20 +63,13 @@ def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConst
     x(tf) with respect to (a, b, tf).
 
     The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
-    along the trajectory; (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
+    along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
     relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
     """
 
-    def rhs(t, y):
-        x, u = y[:3], a + b * t
-        s = jacobian_a(x, u, c) @ y[3:].reshape(3, 2)
-        bvec = input_b(x)
-        s[:, 0] += bvec
-        s[:, 1] += bvec * t
-        return np.concatenate([dynamics(x, u, c), s.ravel()])
-
     y0 = np.concatenate([x0, np.zeros(6)])
-    y = solve_ivp(rhs, (0.0, tf), y0, method="DOP853", rtol=RTOL, atol=_ATOL).y[:, -1]
+    y = solve_ivp(time_linear_variational, (0.0, tf), y0, method="DOP853", rtol=RTOL, atol=_ATOL,
+                  args=(a, b, c)).y[:, -1]
     x = y[:3]
     jac = np.column_stack([y[3:].reshape(3, 2), dynamics(x, a + b * tf, c)])
     return x, jac
@@ -181,6 +174,24 @@ def estimate_k_ball(v_dot: float, h0: float, v0: float, gamma0: float,
     m/s^2, H in m. As in (2.7), K absorbs the base density rho_s.
     """
     return -(v_dot + g * math.sin(gamma0)) / (math.exp(-h0 / scale_height) * v0 * v0)
+
+
+def solve_predictive_adaptive(entry, drag_acc: float, exit_target=EXIT_000,
+                              g: float = AotvConstants.si().g,
+                              scale_height: float = AotvConstants.si().scale_height):
+    """Predictive adaptive law of Sec. 8.1: K from the entry deceleration (8.1), then (a, b, tf').
+
+    entry: (h0 m, v0 m/s, gamma0 rad); drag_acc: the drag specific force D/m measured at entry
+    (m/s^2, positive), so the measured dv/dt of (2.7) is -drag_acc - g sin(gamma0). (a, b, tf')
+    are re-solved by `solve_predictive` for the estimated K (rather than read off the fits
+    (8.2)-(8.4)). Returns (K in 1/m, PredictiveSolution) with solve_time covering both steps.
+    """
+    start = time.perf_counter()
+    v_dot = -drag_acc - g * math.sin(entry[2])
+    k_est = estimate_k_ball(v_dot, entry[0], entry[1], entry[2], g, scale_height)
+    sol = solve_predictive(entry, exit_target, k_est)
+    return k_est, PredictiveSolution(sol.a, sol.b, sol.tf, sol.residual, sol.iterations,
+                                     sol.converged, time.perf_counter() - start)
 
 
 TF_INTERCEPT_PRINTED = 448.94712

@@ -10,6 +10,7 @@ Units are whatever `AotvConstants` carries: `AotvConstants.si()` gives m, s (u i
 its costates, eq. 4.28 and the gains of Ch. 5, 7 and 8 are in km and s).
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -172,3 +173,35 @@ def adaptive_model_matrix(x, u, r_avg: float, c: AotvConstants):
     row_r, row_gamma = _outer_rows(x, u, c)
     row_v = [0.0, -2.0 * c.k_ball * density_ratio(r_avg, c) * v, -c.g * np.cos(gamma)]
     return np.array([row_r, row_v, row_gamma])
+
+
+def time_linear_variational(t: float, y, a: float, b: float, c: AotvConstants) -> list:
+    """Right-hand side of (2.7) under u = a + b t together with its sensitivities to (a, b).
+
+    y = (r, v, gamma, S11, S12, S21, S22, S31, S32) with S = dx/d(a, b) row by row; returns dy/dt
+    with dS/dt = A S + B (1, t), A and B of eqs. (5.2)/(5.3) (A(3,1) without cos gamma, as
+    printed). The same equations as `dynamics`, `jacobian_a` and `input_b`, written with scalar
+    math for the shooting solver, which calls it a thousand times per solve (the test suite checks
+    that the two agree).
+    """
+    r, v, gamma, s11, s12, s21, s22, s31, s32 = y
+    u = a + b * t
+    cg, sg = math.cos(gamma), math.sin(gamma)
+    drag_k = c.k_ball * math.exp(-(r - c.r_earth) / c.scale_height)
+    a11, a12, a13 = 0.0, sg, v * cg
+    a21, a22, a23 = drag_k * v * v / c.scale_height, -2.0 * drag_k * v, -c.g * cg
+    a31 = -v / (r * r)
+    a32 = (1.0 / r + c.g / (v * v)) * cg - u / (v * v)
+    a33 = -(v / r - c.g / v) * sg
+    inv_v = 1.0 / v
+    return [
+        v * sg,
+        -c.g * sg - drag_k * v * v,
+        (v / r - c.g / v) * cg + u * inv_v,
+        a11 * s11 + a12 * s21 + a13 * s31,
+        a11 * s12 + a12 * s22 + a13 * s32,
+        a21 * s11 + a22 * s21 + a23 * s31,
+        a21 * s12 + a22 * s22 + a23 * s32,
+        a31 * s11 + a32 * s21 + a33 * s31 + inv_v,
+        a31 * s12 + a32 * s22 + a33 * s32 + inv_v * t,
+    ]

@@ -21,6 +21,12 @@ GRAVITY_CONSTANT = 0
 """Gravity model code: constant g0 (seed 000, Sec. 2.1 assumption 3)."""
 GRAVITY_INVERSE_SQUARE = 1
 """Gravity model code: g = mu / r^2 (seeds 001, 002)."""
+HEADING_FULL = 0
+"""Heading model code: the full 3-D heading equation (seed 002 eq. 6, seed 001 eq. 3.6)."""
+HEADING_REDUCED = 1
+"""Heading model code: seed 001's reduced heading equation, (3.6) without the
+-V^2 cos(gamma) cos(psi) tan(phi)/r term, i.e. the time form of eq. (3.23) (Calise & Melamed
+Sec. 3.1: theta and phi ignorable, psi approximates the inclination; extraction 2.5, 2.7)."""
 
 
 def gravity(r: float, model: int, g0: float, mu: float) -> float:
@@ -30,12 +36,15 @@ def gravity(r: float, model: int, g0: float, mu: float) -> float:
     return mu / (r * r)
 
 
-def derivatives(x, rho, lift_acc, cl_s_m, cd_s_m, sigma, gravity_model, g0, mu):
+def derivatives(x, rho, lift_acc, cl_s_m, cd_s_m, sigma, gravity_model, g0, mu,
+                heading_model=HEADING_FULL):
     """Time derivative of x = (r, theta, phi, v, gamma, psi), SI units.
 
     rho: density (kg/m^3); lift_acc: commanded lift acceleration (m/s^2); cl_s_m, cd_s_m: C_L S/m
     and C_D S/m (m^2/kg); sigma: bank angle (rad, positive turns toward increasing psi).
-    Seed 002 eqs. (1)-(6); seed 000 eq. (2.7) in the planar case.
+    Seed 002 eqs. (1)-(6); seed 000 eq. (2.7) in the planar case. heading_model HEADING_REDUCED
+    drops the tan(phi) term of the heading rate (seed 001 eq. 3.23); theta and phi are still
+    integrated.
     """
     r, _theta, phi, v, gamma, psi = x
     q_over_m = 0.5 * rho * v * v
@@ -45,13 +54,14 @@ def derivatives(x, rho, lift_acc, cl_s_m, cd_s_m, sigma, gravity_model, g0, mu):
     cg, sg = math.cos(gamma), math.sin(gamma)
     cp, sp = math.cos(psi), math.sin(psi)
     v_over_r = v / r
+    coupling = 0.0 if heading_model == HEADING_REDUCED else v * v_over_r * cg * cp * math.tan(phi)
     return (
         v * sg,
         v * cg * cp / (r * math.cos(phi)),
         v * cg * sp / r,
         -drag - g * sg,
         (lift * math.cos(sigma) - (g - v * v_over_r) * cg) / v,
-        (lift * math.sin(sigma) / cg - v * v_over_r * cg * cp * math.tan(phi)) / v,
+        (lift * math.sin(sigma) / cg - coupling) / v,
     )
 
 

@@ -18,17 +18,16 @@ connection listed before it; SSP allows bindings to name FMU variables without c
 """
 
 import io
-import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
 from xml.etree.ElementTree import Element, SubElement
 
 from aotv_cosim import __version__
 from aotv_cosim.errors import BuildError, InputError
+from aotv_cosim.fmu_build import write_reproducible_zip
 from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
                                 schema_problems)
 
-ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 KINDS = ("parameter", "input", "output")
 """FMI 2.0 causalities exposed as connectors (SSP requires kind == causality for FMI 2.0)."""
 TYPES = {"Real": "ssc:Real", "Integer": "ssc:Integer", "Boolean": "ssc:Boolean", "String": "ssc:String"}
@@ -50,12 +49,7 @@ def export_ssp(scenario, out) -> Path:
     members["SystemStructure.ssd"] = _checked(_ssd(scenario, sources, ssv_sources), SSD_SCHEMA,
                                               "SystemStructure.ssd")
     out.parent.mkdir(parents=True, exist_ok=True)
-    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as archive:
-        for name in sorted(members):
-            info = zipfile.ZipInfo(name, date_time=ZIP_DATE)
-            info.external_attr = 0o644 << 16
-            info.compress_type = zipfile.ZIP_DEFLATED
-            archive.writestr(info, members[name])
+    write_reproducible_zip(out, members)
     return out
 
 
