@@ -36,7 +36,7 @@ from aotv_cosim.scenario import load_scenario  # noqa: E402
 SCENARIOS = ROOT / "scenarios"
 NOMINAL = SCENARIOS / "aotv_time_linear_nominal.json"
 EXIT_ACCURATE = SCENARIOS / "aotv_time_linear_exit_accurate.json"
-CAMPAIGN = SCENARIOS / "montecarlo_time_linear_density.json"
+CAMPAIGN = SCENARIOS / "montecarlo_robust_density.json"
 
 
 class _TimedMaster(Master):
@@ -199,7 +199,7 @@ def target_accuracy(repeats):
 def target_montecarlo(runs, eff_runs):
     from aotv_cosim.montecarlo import run_campaign
 
-    print(f"4. Monte Carlo, {CAMPAIGN.name} (time-linear law, rho_ref +-20% uniform)")
+    print(f"4. Monte Carlo, {CAMPAIGN.name} (seed-000 robust law, density factor +-20% uniform)")
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         t1 = run_campaign(CAMPAIGN, eff_runs, tmp / "w1", workers=1, progress=False, make_plots=False)
