@@ -7,6 +7,8 @@ by hand, [V] the extraction author's independent prototype (evidence, not gospel
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
 from aotv_cosim.guidance.predictive import fly_time_linear
@@ -97,6 +99,18 @@ def test_nominal_costates(nominal):
     np.testing.assert_allclose(lam0[[0, 2]], [-5.4631e-6, -1.25815e-2], rtol=2e-5)
     np.testing.assert_allclose(lam_f[[0, 2]], [-5.4322e-6, 2.04637e-4], rtol=2e-5)
     np.testing.assert_allclose([lam0[1], lam_f[1]], [-4.2749e-4, 1.27495e-4], rtol=1e-4)
+
+
+@settings(max_examples=300, deadline=None)
+@given(t=st.one_of(st.floats(-10.0, 310.0), st.sampled_from([0.0, -0.0, 300.0, 150.0]),
+                   st.integers(0, 200).map(lambda k: float(k) * 1.5)))
+def test_scalar_lookup_is_the_ppoly_to_the_bit(nominal, t):
+    """The guidance's per-step lookup (`state_at`, `u_at`, plain floats) returns exactly what the
+    scipy PPoly evaluation (`state`, `u`) does: mesh nodes, the ends and extrapolation included."""
+    assert nominal.state_at(t) == tuple(nominal.state(t).tolist())
+    assert nominal.u_at(t) == float(nominal.u(t))
+    mesh_node = float(nominal.t[len(nominal.t) // 3])
+    assert nominal.interpolant.at(mesh_node) == tuple(nominal.interpolant(mesh_node).tolist())
 
 
 def test_control_rate_terms(nominal):

@@ -13,8 +13,9 @@ at the interface; costates are reported in km-s units with R = 1 (extraction Sec
 """
 
 import time
+from bisect import bisect_right
 from dataclasses import dataclass
-from typing import Callable, Optional, Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 from scipy.integrate import solve_bvp, solve_ivp
@@ -35,6 +36,49 @@ GUESS_LAMBDA_R = -5e-6
 """Sec. 4.1 initial guess of lambda_r (constant), km/s^3."""
 
 
+class NominalSpline:
+    """The solution of `solve_bvp` as a function of t (s): its C1 cubic spline (a scipy `PPoly` on
+    the normalised time tau = t/tf, extrapolated beyond the mesh) times the variable scales, in
+    km-s units (r, v, gamma, lambda_r, lambda_v, lambda_gamma).
+
+    Calling it evaluates the `PPoly` on arrays. `at(t)` evaluates one time in plain floats for the
+    guidance's per-step lookup, with the same operations as scipy's compiled evaluation (interval
+    [x_i, x_i+1) found by bisection, the last one closed; the power sum c3 + c2 s + c1 s^2 + c0 s^3
+    accumulated in that order), so both give the same numbers to the bit at a fraction of the cost.
+    """
+
+    def __init__(self, ppoly, tf: float):
+        self.ppoly, self.tf = ppoly, tf
+        self.breaks = ppoly.x.tolist()
+        self.pieces = [[tuple(ppoly.c[::-1, i, j].tolist()) for j in range(ppoly.c.shape[2])]
+                       for i in range(ppoly.c.shape[1])]
+        """Per interval, per variable: coefficients (c3, c2, c1, c0) of s^0 .. s^3."""
+        self.scales = _SCALE.tolist()
+        self._last = (None, None)
+
+    def __call__(self, t):
+        """(6, ...) km-s values at time(s) t (s)."""
+        return self.ppoly(np.asarray(t) / self.tf) * _SCALE.reshape((6,) + (1,) * np.ndim(t))
+
+    def at(self, t: float) -> tuple:
+        """The 6 km-s values at one time t (s), as floats; the last lookup is kept (the guidance
+        reads the state and the control at the same t; read and replaced whole, so threads that
+        share the spline see a consistent pair)."""
+        last = self._last
+        if last[0] == t:
+            return last[1]
+        tau = t / self.tf
+        breaks = self.breaks
+        i = min(max(bisect_right(breaks, tau) - 1, 0), len(breaks) - 2)
+        s = tau - breaks[i]
+        s2 = s * s
+        s3 = s2 * s
+        values = tuple((((0.0 + c[0]) + c[1] * s) + c[2] * s2 + c[3] * s3) * k
+                       for c, k in zip(self.pieces[i], self.scales))
+        self._last = (t, values)
+        return values
+
+
 @dataclass(frozen=True)
 class MinEffortSolution:
     """Solution of the 2PBVP (3.21)-(3.22).
@@ -50,13 +94,23 @@ class MinEffortSolution:
     solve_time: float
     success: bool
     message: str
-    interpolant: Callable[[np.ndarray], np.ndarray]
+    interpolant: NominalSpline
     """Maps t (s) to the (6, ...) km-s solution (r, v, gamma, lambdas), cubic between nodes."""
 
     def state(self, t):
         """States (r m, v m/s, gamma rad) at time(s) t (s), shape (3, ...)."""
         y = self.interpolant(t)
         return np.array([y[0] * 1e3, y[1] * 1e3, y[2]])
+
+    def state_at(self, t: float) -> tuple:
+        """`state(t)` at one time t (s) as floats (r m, v m/s, gamma rad), the same numbers."""
+        y = self.interpolant.at(t)
+        return y[0] * 1e3, y[1] * 1e3, y[2]
+
+    def u_at(self, t: float) -> float:
+        """`u(t)` at one time t (s) as a float in m/s^2, the same number."""
+        y = self.interpolant.at(t)
+        return -y[5] / (2.0 * R_WEIGHT * y[1]) * 1e3
 
     def costate(self, t):
         """Costates (lambda_r, lambda_v, lambda_gamma) in km-s units (R = 1) at time(s) t (s)."""
@@ -124,10 +178,6 @@ def solve_min_effort(entry=ENTRY_000, exit_target=EXIT_000, tf: float = TF_000,
     sol = solve_bvp(rhs, boundary, tau, z0, tol=tol, max_nodes=20000)
     elapsed = time.perf_counter() - start
     y = sol.y * scale
-
-    def interpolant(t):
-        return sol.sol(np.asarray(t) / tf) * (_SCALE.reshape((6,) + (1,) * np.ndim(t)))
-
     x_si = np.array([y[0] * 1e3, y[1] * 1e3, y[2]])
     return MinEffortSolution(sol.x * tf, x_si, y[3:], elapsed, bool(sol.success), sol.message,
-                             interpolant)
+                             NominalSpline(sol.sol, tf))

@@ -7,8 +7,6 @@ model speed v_m in km/s. (kappa_r and kappa_v make the law unit-invariant; kappa
 because v_m carries the length unit.)
 """
 
-from aotv_cosim.physics.planar import km_error
-
 KAPPA_R = 1.086957e-4
 """Radius-error gain of eq. (7.3), 1/s^2."""
 KAPPA_V = 6.082725e-2
@@ -21,8 +19,10 @@ def robust_delta_u(state_si, model_si) -> float:
     """Correction du of eqs. (7.1)-(7.5) in m/s^2.
 
     state_si: actual (h m, v m/s, gamma rad); model_si: model/nominal state at the same time, whose
-    speed is v_m of (7.5).
+    speed is v_m of (7.5). Plain float arithmetic, as `planar.km_error` forms the errors (once per
+    guidance step, where numpy's per-call cost on 3-element arrays would dominate).
     """
-    dr, dv, dgamma = km_error(state_si, model_si)
-    kappa_gamma = KAPPA_GAMMA_PER_SPEED * model_si[1] * 1e-3
+    (h, v, gamma), (h_m, v_m, gamma_m) = state_si, model_si
+    dr, dv, dgamma = (h - h_m) * 1e-3, (v - v_m) * 1e-3, gamma - gamma_m
+    kappa_gamma = KAPPA_GAMMA_PER_SPEED * v_m * 1e-3
     return float(-(KAPPA_R * dr + KAPPA_V * dv + kappa_gamma * dgamma) * 1e3)

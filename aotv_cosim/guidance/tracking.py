@@ -22,10 +22,11 @@ from aotv_cosim.guidance import adaptive, lqr, robust
 from aotv_cosim.guidance.optimal_bvp import MinEffortSolution
 
 
-def desired_state(nominal: MinEffortSolution, t: float, r_earth: float) -> np.ndarray:
-    """Nominal (h m, v m/s, gamma rad) at t (s), from the 2PBVP solution; r_earth in m."""
-    r, v, gamma = nominal.state(t)
-    return np.array([r - r_earth, v, gamma])
+def desired_state(nominal: MinEffortSolution, t: float, r_earth: float) -> tuple:
+    """Nominal (h m, v m/s, gamma rad) at one time t (s), floats, from the 2PBVP solution; r_earth
+    in m."""
+    r, v, gamma = nominal.state_at(t)
+    return r - r_earth, v, gamma
 
 
 @dataclass
@@ -119,7 +120,7 @@ class AdaptiveLaw:
 
     def _evaluate(self, t, state):
         desired = desired_state(self.nominal, t, self.r_earth)
-        return adaptive.adaptive_step(self.theta, state, desired, float(self.nominal.u(t)), self.k_ball)
+        return adaptive.adaptive_step(self.theta, state, desired, self.nominal.u_at(t), self.k_ball)
 
     def delta_u(self, t, state):
         return self._evaluate(t, state)[0]
