@@ -212,10 +212,12 @@ class NominalTrackingGuidance(AotvSlave):
         return float(self.law()[0].delta_u(self._elapsed(), self._state()))
 
     def current_command(self):
-        if not self._active():
+        """u_d + du (read at every step: the time, activity and law are looked up once)."""
+        elapsed = self.time - self.start_time
+        if not elapsed <= self.tf * (1.0 + 1e-12):
             return 0.0
         law = self.law()[0]
-        return law.nominal.u_at(self._elapsed()) + self.current_correction()
+        return law.nominal.u_at(elapsed) + float(law.delta_u(elapsed, (self.h, self.v, self.gamma)))
 
     def _nominal_altitude(self):
         return self.law()[0].nominal.state_at(min(self._elapsed(), self.tf))[0] - R_EARTH_000
