@@ -337,3 +337,39 @@ def compare(comparison, out, no_plots):
         click.echo(f"table in {out_dir / 'comparison.csv'}")
 
     _guard(body)
+
+
+@main.group()
+def figures():
+    """Draw a seed's figures (the documents' plots, from this package's runs)."""
+
+
+@figures.command("seed001")
+@click.option("--out", type=click.Path(file_okay=False), default="results/seed001_figures", show_default=True)
+def figures_seed001(out):
+    """Seed-001 report figures 3.4-3.19: gamma, speed, costates, lambda, bank, altitude; guided against optimal."""
+    from aotv_cosim.plane_change_plots import make_all
+
+    _guard(lambda: [click.echo(Path(out) / name) for name in make_all(Path(out))])
+
+
+@figures.command("seed002")
+@click.argument("run_dir", type=click.Path(exists=True, file_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [RUN_DIR].")
+def figures_seed002(run_dir, out):
+    """Seed-002 paper figures 1-6 of a finished entry-tracking run in RUN_DIR (from `aotv-cosim run
+    scenarios/entry_*.json`): ground track, errors against Mach, alpha and bank with their bands,
+    altitude, drag."""
+    from aotv_cosim.entry_plots import plot
+
+    _guard(lambda: [click.echo(path) for path in plot(run_dir, out)])
+
+
+@figures.command("seed003")
+@click.option("--out", type=click.Path(file_okay=False), default="results/seed003_report", show_default=True)
+def figures_seed003(out):
+    """Seed-003 nominal glide, alpha per elevator law and the saturation study; prints the metrics table
+    (runs the scenarios/shuttle_*.json systems, about a minute)."""
+    from aotv_cosim.shuttle_report import main as report
+
+    _guard(lambda: report(out))

@@ -15,6 +15,7 @@ import sys
 
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.physics import aero, constants, orbit, point_mass
+from aotv_cosim.physics.atmosphere import exponential_density
 
 UNBOUND_APOGEE = sys.float_info.max
 """apogee_alt reported for an unbound (escape) orbit, m: finite so the master's non-finite check
@@ -31,6 +32,10 @@ class VehicleSlave(AotvSlave):
     """
 
     default_h0, default_v0, default_gamma0 = 90e3, 8200.0, -0.02
+    default_rho = exponential_density(90e3, constants.RHO_S_000, 0.0, constants.H_SCALE_000)
+    """Start value of the rho input, kg/m^3: the density at the default entry. A tool that reads
+    outputs before it has set the inputs (OSP libcosim does at initialization) then sees a
+    physical state, not an airless one."""
     default_r_e = constants.R_EARTH_000
     default_gravity = point_mass.GRAVITY_CONSTANT
 
@@ -60,7 +65,7 @@ class VehicleSlave(AotvSlave):
         p("q_rho_exp", 0.5, "1", "Density exponent N of the heating law")
         p("q_v_exp", 3.0, "1", "Speed exponent M of the heating law")
         p("nose_radius", 1.0, "m", "Nose radius R_n of the heating law")
-        self.input("rho", 0.0, "kg/m3", "Air density at the vehicle")
+        self.input("rho", self.default_rho, "kg/m3", "Air density at the vehicle")
         self.input("sigma", 0.0, "rad", "Bank angle (positive turns toward north when heading east)")
         aero_deps = ("rho", *aero_inputs)
         x = lambda k: (lambda: self.x[k])

@@ -1,5 +1,7 @@
 """AlphaBankVehicle FMU: entry vehicle commanded by angle of attack and bank (seeds 002, 003)."""
 
+import math
+
 from aotv_cosim.physics import entry, entry_reference, point_mass, sx2
 from aotv_cosim.vehicle_slave import VehicleSlave
 
@@ -20,6 +22,7 @@ class AlphaBankVehicle(VehicleSlave):
 
     description = "3-D point-mass vehicle, angle-of-attack and bank inputs, polynomial polars"
     default_h0, default_v0, default_gamma0 = sx2.H0, sx2.V0, 0.0
+    default_rho = sx2.RHO_0 * math.exp(-sx2.H0 / sx2.H_SCALE)
     default_r_e = sx2.R_EARTH
     default_gravity = point_mass.GRAVITY_INVERSE_SQUARE
 

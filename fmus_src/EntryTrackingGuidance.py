@@ -44,8 +44,9 @@ class EntryTrackingGuidance(AotvSlave):
         p("sigma_width", 90.0 * deg, "rad", "Half-width of the bank band around sigma_ref")
         p("sigma_max", 80.0 * deg, "rad", "Largest |bank|")
         p("R0", sx2.R_EARTH, "m", "Radius converting angle errors to distances (paper: r0)")
-        for name, unit in zip(STATE, ("m", "rad", "rad", "m/s", "rad", "rad")):
-            self.input(name, 0.0, unit, f"Measured {name}")
+        entry_state = (sx2.R_EARTH + sx2.H0, 0.0, 0.0, sx2.V0, 0.0, 0.0)  # start values: the paper's entry
+        for name, unit, start in zip(STATE, ("m", "rad", "rad", "m/s", "rad", "rad"), entry_state):
+            self.input(name, start, unit, f"Measured {name}")
         self.reference = Reference()
         self.integrals = np.zeros(2)
         self.anchor = None

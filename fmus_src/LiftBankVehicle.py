@@ -16,6 +16,7 @@ class LiftBankVehicle(VehicleSlave):
 
     description = "3-D point-mass vehicle, normalized-lift (lambda) and bank inputs, parabolic polar"
     default_h0, default_v0, default_gamma0 = 60e3, 7851.0, math.radians(-1.35)
+    default_rho = mrrv.RHO_REF
     default_r_e = mrrv.R_EARTH
     default_gravity = point_mass.GRAVITY_INVERSE_SQUARE
 

@@ -161,3 +161,17 @@ def test_fmu_producing_nan_is_named(tmp_path, wiring_doc, scenario_doc, faulty_f
     assert summary["status"] == "failed"
     assert summary["error_detail"]["variable"] == "y" and summary["error_detail"]["time"] == pytest.approx(1.1)
     assert "output y is not finite at t = 1.1" in text
+
+
+def test_figures_seed001_draws_the_report_figures(tmp_path):
+    """`aotv-cosim figures seed001` writes the Figs. 3.4-3.19 counterparts as PNG files."""
+    code, text = invoke("figures", "seed001", "--out", tmp_path)
+    assert code == 0, text
+    drawn = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert drawn and all((tmp_path / name).stat().st_size > 1000 for name in drawn)
+    assert sorted(line.rsplit("/", 1)[-1] for line in text.split()) == drawn
+
+
+def test_figures_seed002_needs_a_finished_run(tmp_path):
+    code, text = invoke("figures", "seed002", tmp_path / "missing")
+    assert code == 2 and "does not exist" in text
