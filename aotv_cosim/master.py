@@ -5,11 +5,18 @@ enter initialization mode, and connected values are propagated output -> input i
 respects each FMU's declared initial dependencies, so a guidance law sees the vehicle's entry
 state and the vehicle sees the first command before the first step.
 
-Stepping (Gauss-Seidel, default): components are stepped in `System.gauss_seidel_order()`; an
-input whose source was already stepped in this sweep ('fresh') is set just before its component
-steps; the others ('delayed') are set at the end of the sweep, so every component starts the next
-step with inputs from the newest outputs. Outputs that feed through from delayed inputs are read
-again after those are set, so recorded values are consistent at each communication point.
+Stepping (Gauss-Seidel, default): components are stepped in `System.gauss_seidel_order()` and
+values propagate in a topological order of variables (`System.sweep`): connections plus each
+FMU's declared output -> input feedthrough. An input whose source output is already final at
+the new communication point ('fresh') is set just before its component steps; the others
+('delayed') are set as soon as their source is final, after their component stepped. Outputs
+that feed through from a delayed input are read again once it is set, before anything that
+needs them: with vehicle.h -> atmosphere.h, atmosphere.rho -> vehicle.rho and
+vehicle.drag_acc -> guidance.drag, the atmosphere steps after the vehicle, vehicle.rho is set and
+drag_acc re-read, then the guidance steps with the drag from the new density. So every
+component starts the next step with inputs from the newest outputs and recorded values are
+consistent at each communication point; only a true algebraic loop (a cycle of feedthrough
+between variables) is refused, when the wiring is loaded.
 Jacobi: every component steps from the same communication point, then all outputs are read and
 all inputs set, the scheme of OSP libcosim's fixed-step algorithm.
 
@@ -68,26 +75,27 @@ def signals_to_read(scenario):
     return list(dict.fromkeys(wanted))
 
 
-class _Inputs:
-    """Inputs of one component set by one fmi2SetReal call: value references, values, sources.
+class _Call:
+    """One fmi2SetReal or fmi2GetReal call: value references, values, their places in the buffer.
 
-    Inputs are sorted by the position of their sources in the master's output buffer; when those
-    positions are consecutive the value array is a view into the buffer itself (no copy per step),
-    otherwise `pairs` lists (value slot, buffer index) copies made before each call.
+    Variables are sorted by the position of their values in the master's output buffer (an
+    input: its source's); when those positions are consecutive the value array is a view into
+    the buffer itself (no copy per step), otherwise `pairs` lists (value slot, buffer index)
+    copied before a set or after a get.
     """
 
-    def __init__(self, inst, names, sources, values, alias=True):
-        ranked = sorted(zip(sources, names))
-        self.sources = [s for s, _ in ranked]
+    def __init__(self, inst, names, positions, values, alias=True):
+        ranked = sorted(zip(positions, names))
+        self.positions = [s for s, _ in ranked]
         self.n = len(ranked)
         self.vrs = (ctypes.c_uint * self.n)(*[inst.info.variables[name].vr for _, name in ranked])
-        first = self.sources[0] if ranked else 0
-        if alias and self.sources == list(range(first, first + self.n)):
+        first = self.positions[0] if ranked else 0
+        if alias and self.positions == list(range(first, first + self.n)):
             self.vals = (ctypes.c_double * self.n).from_buffer(values, first * 8)
             self.pairs = ()
         else:
             self.vals = (ctypes.c_double * max(self.n, 1))()
-            self.pairs = tuple(enumerate(self.sources))
+            self.pairs = tuple(enumerate(self.positions))
 
 
 class _Plan:
@@ -99,6 +107,29 @@ class _Plan:
         self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
         self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
         self.offset = offset
+
+
+def _bind(actions):
+    """(is_get, inst, component, C function, vrs, n, vals, pairs, name) per (kind, inst, _Call).
+
+    The C functions are looked up here, when the loop starts, so a wrapper put on an instance
+    after the plans were built (bench/run.py times every call) is the one called."""
+    return [(kind == "get", inst, inst.component, inst.raw_get_real if kind == "get" else inst.raw_set_real,
+             call.vrs, call.n, call.vals, call.pairs, "fmi2GetReal" if kind == "get" else "fmi2SetReal")
+            for kind, inst, call in actions]
+
+
+def _run(bound, values, t):
+    """Make the bound calls in order: a set copies its values in first, a get copies them out after."""
+    for is_get, inst, c, call, vrs, n, vals, pairs, what in bound:
+        if not is_get:
+            for i, j in pairs:
+                vals[i] = values[j]
+        if call(c, vrs, n, vals) > 1:
+            raise inst.failure(what, t)
+        if is_get:
+            for i, j in pairs:
+                values[j] = vals[i]
 
 
 class Master:
@@ -165,25 +196,21 @@ class Master:
     def _build_plans(self):
         s = self.scenario
         system = s.system
-        order = system.gauss_seidel_order()
-        position = {name: k for k, name in enumerate(order)}
         sources = system.source_of()
         # Connected outputs first, in connection order, so that the inputs a component takes
         # from one source sit side by side in the buffer and are passed without a copy.
         connected = list(dict.fromkeys(f"{c.source}.{c.output}" for c in system.connections))
         signals = connected + [sig for sig in self.signals if sig not in connected]
         by_comp = {name: [sig.split(".", 1)[1] for sig in signals if sig.split(".", 1)[0] == name]
-                   for name in order}
-        delayed = {name: [inp for (tgt, inp), (src, _) in sources.items() if tgt == name and
-                          (s.algorithm == "jacobi" or position[src] >= position[name])]
-                   for name in order}
-        # Outputs that feed through from delayed inputs go last, to be re-read as a tail.
-        tails = {}
+                   for name in system.components}
+        sweep = system.sweep(by_comp, jacobi=s.algorithm == "jacobi")
+        order = sweep.order
+        # Outputs re-read after the step go last, so that their re-reads are views of the buffer.
+        reread = {(comp, o) for _, comp, names in self._sweep_actions(sweep) if _ == "get"
+                  for o in names}
         for name in order:
-            ft = system.components[name].fmu.feedthrough
-            tail = [o for o in by_comp[name] if ft.get(o, set()) & set(delayed[name])]
+            tail = [o for o in by_comp[name] if (name, o) in reread]
             by_comp[name] = [o for o in by_comp[name] if o not in tail] + tail
-            tails[name] = len(tail)
         total = sum(len(v) for v in by_comp.values())
         self.values = (ctypes.c_double * max(total, 1))()
         self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
@@ -194,41 +221,33 @@ class Master:
                 self.index[f"{name}.{out}"] = offset + k
             offset += plan.n_out
             plans.append(plan)
-        extrapolate = s.inputs == "extrapolated"
+
+        def call(kind, name, names, alias=True):
+            where = [self.index[".".join(sources[(name, v)]) if kind == "set" else f"{name}.{v}"]
+                     for v in names]
+            return _Call(self.instances[name], names, where, self.values, alias)
+
+        def calls(actions):
+            return [(kind, self.instances[name], call(kind, name, names)) for kind, name, names in actions]
+
         for plan in plans:
             name = plan.inst.name
-            fresh = [inp for (tgt, inp) in sources if tgt == name and inp not in delayed[name]]
-            source_index = lambda inputs: [self.index[".".join(sources[(name, i)])] for i in inputs]
-            plan.fresh = _Inputs(plan.inst, fresh, source_index(fresh), self.values)
-            plan.delayed = _Inputs(plan.inst, delayed[name], source_index(delayed[name]), self.values,
-                                   alias=not extrapolate)
-            n_tail = tails[name]
-            first = plan.n_out - n_tail
-            plan.tail = (n_tail, (ctypes.c_uint * n_tail)(*plan.out_vrs[first:]),
-                         (ctypes.c_double * n_tail).from_buffer(self.values, (plan.offset + first) * 8))
+            plan.fresh = call("set", name, sweep.fresh[name])
+            plan.before = calls(sweep.before[name])
+            plan.delayed = call("set", name, sweep.delayed[name], alias=False)
+        self.finish = calls(sweep.finish)
+        self.start = calls(system.start_actions(by_comp))
         self.plans = plans
         self.order = order
+
+    @staticmethod
+    def _sweep_actions(sweep):
+        return [a for name in sweep.order for a in sweep.before[name]] + sweep.finish
 
     # ---- stepping ----------------------------------------------------------------------------
     def _read_all(self, t):
         for p in self.plans:
             if p.n_out and p.inst.raw_get_real(p.inst.component, p.out_vrs, p.n_out, p.out_vals) > 1:
-                raise p.inst.failure("fmi2GetReal", t)
-
-    def _set_inputs(self, which, t):
-        values = self.values
-        for p in self.plans:
-            inputs = getattr(p, which)
-            if inputs.n:
-                for i, j in inputs.pairs:
-                    inputs.vals[i] = values[j]
-                if p.inst.raw_set_real(p.inst.component, inputs.vrs, inputs.n, inputs.vals) > 1:
-                    raise p.inst.failure("fmi2SetReal", t)
-
-    def _read_tails(self, t):
-        for p in self.plans:
-            n, vrs, vals = p.tail
-            if n and p.inst.raw_get_real(p.inst.component, vrs, n, vals) > 1:
                 raise p.inst.failure("fmi2GetReal", t)
 
     def run(self) -> Outcome:
@@ -242,9 +261,7 @@ class Master:
             self._initialize()
             self._build_plans()
             self._read_all(s.start)
-            self._set_inputs("fresh", s.start)
-            self._set_inputs("delayed", s.start)
-            self._read_tails(s.start)
+            _run(_bind(self.start), self.values, s.start)
             outcome.init_time = clock.perf_counter() - wall0
             rows.add(s.start)
             self._loop(rows, outcome)
@@ -274,27 +291,24 @@ class Master:
         return outcome
 
     def _end_of_sweep(self):
-        """(delayed, tails, extrapolate): what the loop does after the components have stepped.
+        """(finish, extrapolate): what the loop does after the last component has stepped.
 
-        `delayed` are the inputs set with their sources' values at the new communication point,
-        `tails` the outputs read again after that because they feed through from those inputs.
-        With held inputs (default) `extrapolate` is None. With extrapolated inputs it is
-        `extrapolate(t, h, h_next)`, which then sets each delayed input to the mean over the
-        coming step of the line through its source's last two values,
-        v + (h_next / 2) (v - v_prev) / h: the coupling error becomes second order in the step
-        for components that hold their inputs over a step. The tails are read before, with the
-        exact values set; without tails the exact values are not set at all.
+        `finish` are the bound calls that set the inputs not yet set with their sources' values
+        at the new communication point and re-read the outputs that feed through from them, in
+        the order of `System.sweep`. With held inputs (default) `extrapolate` is None. With
+        extrapolated inputs it is `extrapolate(t, h, h_next)`, which then sets each delayed
+        input to the mean over the coming step of the line through its source's last two
+        values, v + (h_next / 2) (v - v_prev) / h: the coupling error becomes second order in
+        the step for components that hold their inputs over a step. The re-reads are made
+        before, with the exact values set; without re-reads the exact values are not set at all.
         """
         array = self.array
-        delayed = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
-                    p.delayed.pairs, p.delayed.n) for p in self.plans if p.delayed.n]
-        tails = [(p.inst, p.inst.component, p.inst.raw_get_real) + p.tail
-                 for p in self.plans if p.tail[0]]
+        finish = _bind(self.finish)
         if self.scenario.inputs != "extrapolated":
-            return delayed, tails, None
-        lines = [(inst, c, set_, vrs, vals, np.frombuffer(vals, dtype=np.float64)[:n],
-                  np.array([j for _, j in pairs], dtype=np.intp))
-                 for inst, c, set_, vrs, vals, pairs, n in delayed]
+            return finish, None
+        lines = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
+                  np.frombuffer(p.delayed.vals, dtype=np.float64)[:p.delayed.n],
+                  np.array(p.delayed.positions, dtype=np.intp)) for p in self.plans if p.delayed.n]
         last = array.copy()
 
         def extrapolate(t, h, h_next):
@@ -305,7 +319,7 @@ class Master:
                 if set_(c, vrs, len(src), vals) > 1:
                     raise inst.failure("fmi2SetReal", t)
             last[:] = array
-        return (delayed if tails else []), tails, extrapolate
+        return (finish if any(action[0] for action in finish) else []), extrapolate
 
     def _loop(self, rows, outcome):
         s = self.scenario
@@ -314,10 +328,10 @@ class Master:
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
         conditions = [(self.index[c.signal], c.threshold, c.direction, c) for c in s.stop_conditions]
         previous = array.copy()
-        delayed, tails, extrapolate = self._end_of_sweep()
+        finish, extrapolate = self._end_of_sweep()
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
                      p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
-                     p.fresh.pairs, p.fresh.n) for p in self.plans]
+                     p.fresh.pairs, p.fresh.n, _bind(p.before)) for p in self.plans]
         jacobi = s.algorithm == "jacobi"
         every = s.record_every
         keep_time, keep_row = rows.times.append, rows.rows.append
@@ -339,7 +353,10 @@ class Master:
                         if n_out and get(c, ovrs, n_out, ovals) > 1:
                             raise inst.failure("fmi2GetReal", t_new)
                 else:
-                    for inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf in steppers:
+                    for (inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf,
+                         before) in steppers:
+                        if before:
+                            _run(before, values, t_new)
                         if nf:
                             for i, j in pairs:
                                 fvals[i] = values[j]
@@ -350,14 +367,15 @@ class Master:
                             raise inst.failure("fmi2DoStep", t, status)
                         if n_out and get(c, ovrs, n_out, ovals) > 1:
                             raise inst.failure("fmi2GetReal", t_new)
-                for inst, c, set_, vrs, vals, pairs, n in delayed:
-                    for i, j in pairs:
-                        vals[i] = values[j]
-                    if set_(c, vrs, n, vals) > 1:
-                        raise inst.failure("fmi2SetReal", t_new)
-                for inst, c, get, n, vrs, vals in tails:
-                    if get(c, vrs, n, vals) > 1:
-                        raise inst.failure("fmi2GetReal", t_new)
+                for is_get, inst, c, call, vrs, n, vals, pairs, what in finish:
+                    if not is_get:
+                        for i, j in pairs:
+                            vals[i] = values[j]
+                    if call(c, vrs, n, vals) > 1:
+                        raise inst.failure(what, t_new)
+                    if is_get:
+                        for i, j in pairs:
+                            values[j] = vals[i]
                 if extrapolate is not None:
                     extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new)
                 done = k + 1

@@ -12,9 +12,10 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
     for it by direct shooting (`solve_predictive_adaptive`), instead of the thesis's fits
     (8.2)-(8.4) of Table 8.1. The accelerometer is modelled from the density at the vehicle
     (input rho): D/m = rho v^2 C_D0 / (2 m/S) with the vehicle's C_D0 and m/S, exact when the
-    uncertainty of K lies in the density (the Atmosphere FMU's dispersions). (Connecting the
-    vehicle's drag_acc output instead would make the vehicle and the atmosphere depend on each
-    other at the same instant in the master's component ordering.)
+    uncertainty of K lies in the density (the Atmosphere FMU's dispersions). (The master would
+    order a connection from the vehicle's drag_acc output at variable level, but the vehicle
+    declares drag_acc dependent on its u_lift input, which comes from this law's u: taking the
+    drag at entry would then be an algebraic loop at initialization.)
     """
 
     description = "Predictive adaptive time-linear lift law: K from the entry deceleration (seed 000 Sec. 8.1)"

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from aotv_cosim.errors import InputError
 from aotv_cosim.reference import reference_run
 from aotv_cosim.runner import run_scenario
 from aotv_cosim.scenario import load_scenario
@@ -23,6 +24,49 @@ def test_gauss_seidel_order_follows_feedthrough():
     order = load_scenario(NOMINAL).system.gauss_seidel_order()
     assert order.index("vehicle") < order.index("atmosphere")
     assert order.index("guidance") < order.index("actuator")
+
+
+
+def _with_accelerometer(wiring_doc, scenario_doc, tmp_path):
+    """The seed-000 system plus a pass-through LiftActuator fed the vehicle's measured drag D/m."""
+    wiring_doc["components"]["accelerometer"] = {"fmu": "LiftActuator"}
+    wiring_doc["connections"].append("vehicle.drag_acc -> accelerometer.command")
+    scenario_doc["system"] = str(write_json(tmp_path / "w.json", wiring_doc))
+    scenario_doc.update(stop=30.0, record=["vehicle.v", "atmosphere.rho", "accelerometer.position"],
+                        expectations=[], plots=[])
+    return write_json(tmp_path / "s.json", scenario_doc)
+
+
+def test_measured_drag_feeds_a_consumer_from_the_current_density(tmp_path, wiring_doc, scenario_doc):
+    """vehicle.drag_acc -> accelerometer.command: vehicle and atmosphere feed each other at
+    component level, but not at variable level (vehicle.h -> atmosphere.rho -> vehicle.rho ->
+    vehicle.drag_acc), so the system is accepted. The consumer steps after the density was set
+    and the drag re-read: at every point it sees D/m = rho v^2 C_D0 / (2 m/S) (seed 000 eq. 2.8)
+    with the recorded rho and v of that point (a drag from the previous density would be off by
+    the density change over a step, ~1e-3 relative)."""
+    scenario = load_scenario(_with_accelerometer(wiring_doc, scenario_doc, tmp_path))
+    system = scenario.system
+    sweep = system.sweep({n: list(c.fmu.feedthrough) for n, c in system.components.items()})
+    assert sweep.order.index("atmosphere") < sweep.order.index("accelerometer")
+    assert sweep.fresh["accelerometer"] == ["command"] and sweep.delayed["vehicle"] == ["rho"]
+    summary = run_scenario(scenario, tmp_path / "out", make_plots=False)
+    assert summary["status"] == "completed"
+    lines = (tmp_path / "out" / "timeseries.csv").read_text().splitlines()
+    columns = lines[0].split(",")
+    rows = [dict(zip(columns, map(float, line.split(",")))) for line in lines[1:]]
+    params = wiring_doc["components"]["vehicle"]["parameters"]
+    assert len(rows) == 301
+    for row in rows:
+        drag = row["atmosphere.rho"] * row["vehicle.v"] ** 2 * params["CD0"] / (2 * params["mass_per_area"])
+        assert row["accelerometer.position"] == pytest.approx(drag, rel=1e-13), row
+
+
+def test_a_true_algebraic_loop_through_the_drag_is_rejected(tmp_path, wiring_doc, scenario_doc):
+    """drag_acc depends on u_lift at the same instant: feeding it back into u_lift is a loop."""
+    wiring_doc["connections"].remove("actuator.position -> vehicle.u_lift")
+    wiring_doc["connections"].append("accelerometer.position -> vehicle.u_lift")
+    with pytest.raises(InputError, match="algebraic loop of direct feedthrough: .*vehicle.drag_acc"):
+        load_scenario(_with_accelerometer(wiring_doc, scenario_doc, tmp_path))
 
 
 def test_nominal_expectations_pass(nominal):
