@@ -71,9 +71,9 @@ def _predictive_command(params, entry, start):
 
 
 def _predictive_adaptive_command(params, entry, start):
-    """u(t) of PredictiveAdaptiveGuidance: K from the entry drag (8.1), then (a, b, tf')."""
-    drag = aero.parasite_drag_acceleration(entry["rho"], entry["v"], params["CD0"], params["mass_per_area"])
-    _k, sol = solve_predictive_adaptive((entry["h"], entry["v"], entry["gamma"]), drag, _exit_target(params))
+    """u(t) of PredictiveAdaptiveGuidance: K from the drag measured at entry (8.1), then (a, b, tf')."""
+    _k, sol = solve_predictive_adaptive((entry["h"], entry["v"], entry["gamma"]), entry["drag"],
+                                        _exit_target(params))
     return _linear(sol, start)
 
 
@@ -155,7 +155,9 @@ def reference_run(scenario, rtol=1e-12, atol=None) -> ReferenceResult:
                                     ap["noise_interval"], ap["noise_seed"])
         return factor * exponential_density(h, ap["rho_ref"], ap["h_ref"], ap["scale_height"])
 
-    entry = {"h": vp["h0"], "v": vp["v0"], "gamma": vp["gamma0"], "rho": density(scenario.start, vp["h0"])}
+    rho0 = density(scenario.start, vp["h0"])
+    entry = {"h": vp["h0"], "v": vp["v0"], "gamma": vp["gamma0"],
+             "drag": aero.parasite_drag_acceleration(rho0, vp["v0"], vp["CD0"], vp["mass_per_area"])}
     command = GUIDANCE[guidance.fmu.model_identifier](effective_parameters(guidance), entry, scenario.start)
     actuate = _actuator_map(system)
     cd_s_m = vp["CD0"] / vp["mass_per_area"]

@@ -25,7 +25,7 @@ keeps flagging real failures only."""
 class VehicleSlave(AotvSlave):
     """States r, theta, phi, v, gamma, psi integrated by RK4 inside each communication step.
 
-    Subclasses call `declare_vehicle(aero_inputs)` after declaring their own parameters and
+    Subclasses call `declare_vehicle(aero_inputs, drag_inputs)` after declaring their own parameters and
     inputs, implement `aero_forces()` -> (lift_acc m/s^2, cl_s_m m^2/kg, cd_s_m m^2/kg) from the
     current inputs (see `point_mass.derivatives`), and define ``do_step`` as a call of `advance`.
     Inputs are held over the step (zero-order hold), as the FMU receives them.
@@ -39,11 +39,12 @@ class VehicleSlave(AotvSlave):
     default_r_e = constants.R_EARTH_000
     default_gravity = point_mass.GRAVITY_CONSTANT
 
-    def declare_vehicle(self, aero_inputs):
+    def declare_vehicle(self, aero_inputs, drag_inputs=None):
         """Declare the initial state, planet, heating parameters, the bank input and the outputs.
 
         aero_inputs: names of the inputs `aero_forces` reads (the aerodynamic outputs feed
-        through from them and from rho).
+        through from them and from rho); drag_inputs: the subset the drag depends on (default all),
+        so that a guidance law may measure the drag without a loop through its own command.
         """
         p = self.parameter
         p("h0", self.default_h0, "m", "Initial altitude")
@@ -68,6 +69,7 @@ class VehicleSlave(AotvSlave):
         self.input("rho", self.default_rho, "kg/m3", "Air density at the vehicle")
         self.input("sigma", 0.0, "rad", "Bank angle (positive turns toward north when heading east)")
         aero_deps = ("rho", *aero_inputs)
+        drag_deps = ("rho", *(aero_inputs if drag_inputs is None else drag_inputs))
         x = lambda k: (lambda: self.x[k])
         o = self.output
         o("h", "m", "Altitude r - R_e", lambda: self.x[0] - self.R_e)
@@ -86,7 +88,7 @@ class VehicleSlave(AotvSlave):
         o("lift_acc", "m/s2", "Lift specific force L/m", lambda: self._specific_forces()[0],
           depends_on=aero_deps)
         o("drag_acc", "m/s2", "Drag specific force D/m", lambda: self._specific_forces()[1],
-          depends_on=aero_deps)
+          depends_on=drag_deps)
         o("load_factor", "1", "Aerodynamic load factor sqrt(L^2+D^2)/(m g0)",
           lambda: aero.load_factor(*self._specific_forces(), self.g0), depends_on=aero_deps)
         o("apogee_alt", "m", "Apogee altitude of the Keplerian orbit through the current state "

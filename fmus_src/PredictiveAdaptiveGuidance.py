@@ -10,22 +10,19 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
 
     K is estimated from the deceleration measured at entry (eq. 8.1) and (a, b, tf') are re-solved
     for it by direct shooting (`solve_predictive_adaptive`), instead of the thesis's fits
-    (8.2)-(8.4) of Table 8.1. The accelerometer is modelled from the density at the vehicle
-    (input rho): D/m = rho v^2 C_D0 / (2 m/S) with the vehicle's C_D0 and m/S, exact when the
-    uncertainty of K lies in the density (the Atmosphere FMU's dispersions). (The master would
-    order a connection from the vehicle's drag_acc output at variable level, but the vehicle
-    declares drag_acc dependent on its u_lift input, which comes from this law's u: taking the
-    drag at entry would then be an algebraic loop at initialization.)
+    (8.2)-(8.4) of Table 8.1. The measurement is the vehicle's drag specific force at entry (input
+    `drag`, connected from `vehicle.drag_acc`): the vehicle declares its parasite drag dependent
+    on rho only, and the master orders variables, so the value latched at initialization is the
+    drag at the entry density, with no loop through this law's own command.
     """
 
     description = "Predictive adaptive time-linear lift law: K from the entry deceleration (seed 000 Sec. 8.1)"
-    entry_inputs = guidance_slave.ENTRY + ("rho",)
+    entry_inputs = guidance_slave.ENTRY + ("drag",)
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.input("rho", 4.959e-6, "kg/m3", "Density at the vehicle (latched at initialization)")
-        self.parameter("CD0", constants.CD0_000, "1", "Parasite drag coefficient of the vehicle (accelerometer model)")
-        self.parameter("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Vehicle m/S (accelerometer model)")
+        entry_drag = aero.parasite_drag_acceleration(4.959e-6, 8200.0, constants.CD0_000, constants.M_OVER_S_000)
+        self.input("drag", entry_drag, "m/s2", "Measured drag specific force D/m (latched at initialization)")
         guidance_slave.declare_exit_targets(self)
         out = self.solution_output
         out("u", "m/s2", "Lift acceleration command", self.current_command)
@@ -41,9 +38,8 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
 
     def solve(self):
         """(K estimate 1/m, PredictiveSolution, measured D/m m/s^2) for the entry state."""
-        drag = aero.parasite_drag_acceleration(self.rho, self.v, self.CD0, self.mass_per_area)
-        return (*solve_predictive_adaptive((self.h, self.v, self.gamma), drag,
-                                           (self.hf, self.vf, self.gammaf)), drag)
+        return (*solve_predictive_adaptive((self.h, self.v, self.gamma), self.drag,
+                                           (self.hf, self.vf, self.gammaf)), self.drag)
 
     def final_time(self, solution):
         return solution[1].tf

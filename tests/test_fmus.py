@@ -38,6 +38,7 @@ def test_feedthrough_is_declared_per_output(built):
     deps = {u.variable.name: {d.name for d in u.dependencies} for u in md.outputs}
     assert deps["h"] == set() and deps["v"] == set()
     assert deps["qdot"] == {"rho"} and deps["load_factor"] == {"rho", "u_lift"}
+    assert deps["drag_acc"] == {"rho"}  # parasite drag: measurable by guidance without a loop
     md = read_model_description(str(built["Atmosphere"]))
     assert {d.name for d in md.outputs[0].dependencies} == {"h"}
 

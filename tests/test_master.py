@@ -27,10 +27,10 @@ def test_gauss_seidel_order_follows_feedthrough():
 
 
 
-def _with_accelerometer(wiring_doc, scenario_doc, tmp_path):
-    """The seed-000 system plus a pass-through LiftActuator fed the vehicle's measured drag D/m."""
+def _with_accelerometer(wiring_doc, scenario_doc, tmp_path, measured="drag_acc"):
+    """The seed-000 system plus a pass-through LiftActuator fed the vehicle's measured D/m (or L/m)."""
     wiring_doc["components"]["accelerometer"] = {"fmu": "LiftActuator"}
-    wiring_doc["connections"].append("vehicle.drag_acc -> accelerometer.command")
+    wiring_doc["connections"].append(f"vehicle.{measured} -> accelerometer.command")
     scenario_doc["system"] = str(write_json(tmp_path / "w.json", wiring_doc))
     scenario_doc.update(stop=30.0, record=["vehicle.v", "atmosphere.rho", "accelerometer.position"],
                         expectations=[], plots=[])
@@ -48,7 +48,8 @@ def test_measured_drag_feeds_a_consumer_from_the_current_density(tmp_path, wirin
     system = scenario.system
     sweep = system.sweep({n: list(c.fmu.feedthrough) for n, c in system.components.items()})
     assert sweep.order.index("atmosphere") < sweep.order.index("accelerometer")
-    assert sweep.fresh["accelerometer"] == ["command"] and sweep.delayed["vehicle"] == ["rho"]
+    assert sweep.fresh["accelerometer"] == ["command"]
+    assert sweep.delayed["vehicle"] == ["rho", "u_lift"]  # the parasite drag does not depend on u_lift
     summary = run_scenario(scenario, tmp_path / "out", make_plots=False)
     assert summary["status"] == "completed"
     lines = (tmp_path / "out" / "timeseries.csv").read_text().splitlines()
@@ -61,12 +62,12 @@ def test_measured_drag_feeds_a_consumer_from_the_current_density(tmp_path, wirin
         assert row["accelerometer.position"] == pytest.approx(drag, rel=1e-13), row
 
 
-def test_a_true_algebraic_loop_through_the_drag_is_rejected(tmp_path, wiring_doc, scenario_doc):
-    """drag_acc depends on u_lift at the same instant: feeding it back into u_lift is a loop."""
+def test_a_true_algebraic_loop_through_the_lift_is_rejected(tmp_path, wiring_doc, scenario_doc):
+    """lift_acc depends on u_lift at the same instant: feeding it back into u_lift is a loop."""
     wiring_doc["connections"].remove("actuator.position -> vehicle.u_lift")
     wiring_doc["connections"].append("accelerometer.position -> vehicle.u_lift")
-    with pytest.raises(InputError, match="algebraic loop of direct feedthrough: .*vehicle.drag_acc"):
-        load_scenario(_with_accelerometer(wiring_doc, scenario_doc, tmp_path))
+    with pytest.raises(InputError, match="algebraic loop of direct feedthrough: .*vehicle.lift_acc"):
+        load_scenario(_with_accelerometer(wiring_doc, scenario_doc, tmp_path, measured="lift_acc"))
 
 
 def test_nominal_expectations_pass(nominal):

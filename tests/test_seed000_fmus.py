@@ -41,7 +41,7 @@ def test_seed000_scenario(name, tmp_path):
 
 def test_laws_swap_by_the_guidance_line():
     """Every seed-000 wiring has the same vehicle, atmosphere, actuator and connections; only the
-    guidance component differs (the predictive adaptive law adds its density measurement)."""
+    guidance component differs (the predictive adaptive law adds its drag measurement)."""
     wirings = {p.stem: json.loads(p.read_text()) for p in (SCENARIOS / "systems").glob("aotv_*.json")}
     base = wirings["aotv_optimal"]
     for name, doc in wirings.items():
@@ -49,7 +49,7 @@ def test_laws_swap_by_the_guidance_line():
             assert doc["components"][comp] == base["components"][comp], (name, comp)
         extra = set(doc["connections"]) - set(base["connections"])
         assert set(base["connections"]) <= set(doc["connections"]), name
-        assert extra == ({"atmosphere.rho -> guidance.rho"} if name == "aotv_predictive_adaptive" else set())
+        assert extra == ({"vehicle.drag_acc -> guidance.drag"} if name == "aotv_predictive_adaptive" else set())
 
 
 @pytest.mark.parametrize("name, max_dh", [("aotv_robust_k0_8", 0.5), ("aotv_lqr_terminal_dh0", 1.0),
