@@ -20,6 +20,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort  # noqa: E402
 from aotv_cosim.guidance.predictive import fly_time_linear, solve_predictive  # noqa: E402
 from aotv_cosim.physics.planar import ENTRY_000, K_BALL_000  # noqa: E402
+from timing import median_seconds  # noqa: E402 (bench/timing.py, beside this script)
 
 TARGET_S = 0.050
 """Median solve-time target of the predictive law, s."""
@@ -49,16 +50,6 @@ def predictive_times(repeats):
     return times, cpu, iterations
 
 
-def cpu_median(function, repeats):
-    """Median process CPU time (s) of function() over `repeats` calls."""
-    samples = []
-    for _ in range(repeats):
-        start = time.process_time()
-        function()
-        samples.append(time.process_time() - start)
-    return statistics.median(samples)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
@@ -67,8 +58,9 @@ def main():
     times, cpu, iterations = predictive_times(args.repeats)
     median = statistics.median(times)
     cpu_median_solve = statistics.median(cpu)
-    flight = cpu_median(lambda: fly_time_linear(ENTRY_000, 0.77166, -2.578097e-3, 300.317), 5 * args.repeats)
-    bvp = cpu_median(solve_min_effort, args.repeats)
+    flight = median_seconds(lambda: fly_time_linear(ENTRY_000, 0.77166, -2.578097e-3, 300.317), 5 * args.repeats,
+                            time.process_time)
+    bvp = median_seconds(solve_min_effort, args.repeats, time.process_time)
     print(f"predictive (a, b, tf') solve, {len(cases())} cases x {args.repeats} repeats:")
     print(f"  median {median * 1e3:.1f} ms (min {min(times) * 1e3:.1f}, max {max(times) * 1e3:.1f}), "
           f"median {statistics.median(iterations):.0f} trajectory integrations")

@@ -13,7 +13,6 @@ import argparse
 import math
 import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout, n
 from aotv_cosim.guidance import mae  # noqa: E402
 from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw  # noqa: E402
 from aotv_cosim.physics import mrrv, point_mass  # noqa: E402
+from timing import median_seconds  # noqa: E402 (bench/timing.py, beside this script)
 
 MODEL = mae.MaeModel()
 ENTRY = mae.State(MODEL.r_earth + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
@@ -56,16 +56,6 @@ def guided_resolves(dt=0.1):
     return cases
 
 
-def median_time(call, repeats):
-    """Median wall time (s) of `repeats` calls."""
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=7)
@@ -74,9 +64,9 @@ def main():
     per_case = {mae.ENTRY: [], mae.EXIT: []}
     for state, previous in cases:
         mode = mae.solve(state, TARGETS, previous).mode
-        per_case[mode].append(median_time(lambda: mae.solve(state, TARGETS, previous), args.repeats))
+        per_case[mode].append(median_seconds(lambda: mae.solve(state, TARGETS, previous), args.repeats))
     every = per_case[mae.ENTRY] + per_case[mae.EXIT]
-    cold = median_time(lambda: mae.solve(ENTRY, TARGETS), args.repeats)
+    cold = median_seconds(lambda: mae.solve(ENTRY, TARGETS), args.repeats)
     warm = statistics.median(every)
     print(f"MAE re-solves of one guided flight: {len(every)} "
           f"({len(per_case[mae.ENTRY])} entry, {len(per_case[mae.EXIT])} exit), {args.repeats} repeats each")
