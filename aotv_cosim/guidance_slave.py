@@ -61,6 +61,25 @@ def declare_plane_change_problem(slave):
     p("mu", MU_EARTH, "m3/s2", "Gravitational parameter")
 
 
+PITCH_MEASUREMENTS = {
+    "alpha": (0.0, "rad", "Angle-of-attack perturbation"),
+    "alpha_prime": (0.0, "rad", "d alpha / d xi"),
+    "xi": (0.0, "1", "Shuttle lengths flown"),
+    "omega0": (0.0, "1", "Stiffness coefficient"),
+    "omega1": (0.0, "1", "Damping coefficient"),
+    "f": (0.0, "1", "Disturbance term"),
+    "mu": (1.0, "1", "Control coefficient"),
+}
+"""Inputs an elevator law of seed 003 may take from the PitchVehicle: (start, unit, description)
+of the perturbation, its xi-rate, xi and the coefficients of eq. (1.38)."""
+
+
+def declare_pitch_measurements(slave, names):
+    """Declare the PitchVehicle measurements `names` (keys of PITCH_MEASUREMENTS) as inputs."""
+    for name in names:
+        slave.input(name, *PITCH_MEASUREMENTS[name])
+
+
 class EntryLatchedGuidance(AotvSlave):
     """Guidance flown open loop from a solution computed at initialization."""
 

@@ -1,5 +1,6 @@
 """ShuttleAdaptive FMU: seed 003 Slotine-Li modified adaptive elevator law, eqs. (5.28)-(5.35)."""
 
+from aotv_cosim import guidance_slave
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.guidance.shuttle_laws import ADAPTIVE_GAINS, AdaptiveLaw
 from aotv_cosim.physics.shuttle_pitch import GENERIC
@@ -23,8 +24,7 @@ class ShuttleAdaptive(AotvSlave):
             self.parameter(f"gamma_{name}", g, "1", f"Adaptation gain of the {name} estimate")
         self.integer_parameter("anti_windup", 0, "1: freeze adaptation while saturated")
         self.parameter("L", GENERIC.L, "m", "Shuttle reference length of xi")
-        self.input("alpha", 0.0, "rad", "Angle-of-attack perturbation")
-        self.input("alpha_prime", 0.0, "rad", "d alpha / d xi")
+        guidance_slave.declare_pitch_measurements(self, ('alpha', 'alpha_prime'))
         self.input("v", 1.0, "m/s", "Speed")
         self.input("delta_e_applied", 0.0, "rad", "Elevator deflection actually applied")
         self.output("delta_e", "rad", "Commanded elevator deflection", self._command,

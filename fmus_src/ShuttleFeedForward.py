@@ -1,5 +1,6 @@
 """ShuttleFeedForward FMU: seed 003 feed-forward disturbance cancellation, eq. (2.16)."""
 
+from aotv_cosim import guidance_slave
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.guidance.shuttle_laws import feed_forward
 
@@ -11,8 +12,7 @@ class ShuttleFeedForward(AotvSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.input("f", 0.0, "1", "Disturbance term f")
-        self.input("mu", 1.0, "1", "Control coefficient mu")
+        guidance_slave.declare_pitch_measurements(self, ('f', 'mu'))
         self.output("delta_e", "rad", "Commanded elevator deflection",
                     lambda: feed_forward(self.f, self.mu), depends_on=("f", "mu"))
 

@@ -1,5 +1,6 @@
 """ShuttleFeedbackLinearization FMU: seed 003 feedback-linearizing elevator law, eq. (3.7)."""
 
+from aotv_cosim import guidance_slave
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.guidance.shuttle_laws import feedback_linearization
 
@@ -15,12 +16,7 @@ class ShuttleFeedbackLinearization(AotvSlave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.parameter("lam", 1.92e-2, "1", "Closed-loop double root lambda, per shuttle length")
-        self.input("alpha", 0.0, "rad", "Angle-of-attack perturbation")
-        self.input("alpha_prime", 0.0, "rad", "d alpha / d xi")
-        self.input("omega0", 0.0, "1", "Stiffness coefficient")
-        self.input("omega1", 0.0, "1", "Damping coefficient")
-        self.input("f", 0.0, "1", "Disturbance term")
-        self.input("mu", 1.0, "1", "Control coefficient")
+        guidance_slave.declare_pitch_measurements(self, ('alpha', 'alpha_prime', 'omega0', 'omega1', 'f', 'mu'))
         self.output("delta_e", "rad", "Commanded elevator deflection", self._command,
                     depends_on=INPUTS)
 

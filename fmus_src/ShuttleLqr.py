@@ -4,6 +4,7 @@ import time
 
 import numpy as np
 
+from aotv_cosim import guidance_slave
 from aotv_cosim.fmu_slave import AotvSlave
 from aotv_cosim.guidance import shuttle_lqr as lqr
 from aotv_cosim.physics import shuttle_trajectory as st
@@ -36,11 +37,7 @@ class ShuttleLqr(AotvSlave):
         self.integer_parameter("feedback", 0, "0: optimal u* open loop; 1: u = -R^-1 B^T K^-1 X")
         for name, unit in (("h", "m"), ("v", "m/s"), ("gamma", "rad")):
             self.input(name, 0.0 if name != "v" else 1.0, unit, f"Nominal {name} (latched at start)")
-        self.input("alpha", 0.0, "rad", "Angle-of-attack perturbation")
-        self.input("alpha_prime", 0.0, "rad", "d alpha / d xi")
-        self.input("xi", 0.0, "1", "Shuttle lengths flown")
-        self.input("f", 0.0, "1", "Disturbance term")
-        self.input("mu", 1.0, "1", "Control coefficient")
+        guidance_slave.declare_pitch_measurements(self, ('alpha', 'alpha_prime', 'xi', 'f', 'mu'))
         self.output("delta_e", "rad", "Commanded elevator deflection", self._command,
                     depends_on=("alpha", "alpha_prime", "xi", "f", "mu"),
                     initial_depends_on=LATCHED + ("f", "mu"))
