@@ -367,15 +367,7 @@ class Master:
                             raise inst.failure("fmi2DoStep", t, status)
                         if n_out and get(c, ovrs, n_out, ovals) > 1:
                             raise inst.failure("fmi2GetReal", t_new)
-                for is_get, inst, c, call, vrs, n, vals, pairs, what in finish:
-                    if not is_get:
-                        for i, j in pairs:
-                            vals[i] = values[j]
-                    if call(c, vrs, n, vals) > 1:
-                        raise inst.failure(what, t_new)
-                    if is_get:
-                        for i, j in pairs:
-                            values[j] = vals[i]
+                _run(finish, values, t_new)
                 if extrapolate is not None:
                     extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new)
                 done = k + 1
