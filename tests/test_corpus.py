@@ -4,9 +4,12 @@ tests/data/corpus/index.json lists each case: the file, its kind (scenario or wi
 fragments of the expected error line (entry, message, fix). Each case goes through `run`,
 `check` and `validate`; each must exit with status 2 and print exactly one line on stderr,
 `error: FILE: ENTRY: CAUSE; FIX`, naming the file, and no traceback. A wiring case is run
-through a scenario written beside the test that points at the corpus wiring file.
+through a scenario written beside the test that points at the corpus wiring file. The crafted
+FMU archives the wiring cases name (tests/data/corpus/fmus/, not tracked) are written by
+tests/data/corpus/make_archives.py before the module runs.
 """
 
+import importlib.util
 import json
 import os
 import subprocess
@@ -21,6 +24,15 @@ from conftest import ROOT, write_json
 
 CORPUS = Path(__file__).resolve().parent / "data" / "corpus"
 CASES = json.loads((CORPUS / "index.json").read_text())["cases"]
+
+
+@pytest.fixture(scope="module", autouse=True)
+def crafted_archives():
+    """Write the corpus's crafted FMU archives (deterministic bytes) into tests/data/corpus/fmus."""
+    spec = importlib.util.spec_from_file_location("make_archives", CORPUS / "make_archives.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.main()
 
 
 def _scenario_for(case, tmp_path):

@@ -1,4 +1,4 @@
-"""Write the crafted FMU archives of the corpus (fmus/*.fmu): run once, the results are committed.
+"""Write the crafted FMU archives of the corpus (fmus/*.fmu); tests/test_corpus.py runs it first.
 
 Each archive is wrong in one way the wiring loader must report: not a zip, no modelDescription,
 broken XML, model exchange only, a member with an absolute path or one climbing out with '..',
