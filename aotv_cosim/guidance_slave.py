@@ -187,8 +187,6 @@ class NominalTrackingGuidance(AotvSlave):
         self.input("gamma", gamma0, "rad", "Measured flight-path angle")
         self.time = 0.0
         self._law = None
-        self._solve_time = 0.0
-        self._converged = False
 
     def law_outputs(self):
         """Declare u, du, the nominal's altitude, solve_time and converged (call last in __init__)."""

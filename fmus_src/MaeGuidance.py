@@ -44,14 +44,14 @@ class MaeGuidance(AotvSlave):
                                            ("radius", "speed", "flight-path angle", "heading")):
             self.input(name, value, unit, f"Measured {what}")
         out = self.output
-        out("lam", "1", "Normalized lift command lambda (eq. 3.26)", lambda: self._command()[0],
+        out("lam", "1", "Normalized lift command lambda (eq. 3.26)", lambda: self._evaluated()[0][0],
             depends_on=STATE)
-        out("bank", "rad", "Bank command mu (eq. 3.27)", lambda: self._command()[1], depends_on=STATE)
+        out("bank", "rad", "Bank command mu (eq. 3.27)", lambda: self._evaluated()[0][1], depends_on=STATE)
         for i, (name, what) in enumerate([("p_u", "P_u (eqs. 3.105, 3.108)"),
                                           ("p_gamma", "P_gamma (eqs. 3.106, 3.109)"),
                                           ("p_psi", "P_psi = a3 (eq. 3.107)")]):
             out(name, "1", f"Composite costate {what} at the measured state",
-                lambda i=i: self._law().costates(self._state())[i], depends_on=STATE)
+                lambda i=i: self._evaluated()[1][i], depends_on=STATE)
         solved = self._solution_output
         solved("solve_time", "s", "Wall-clock time of the last MAE solve", lambda s: s.solve_time)
         solved("converged", "1", "1 if the last MAE solve converged, else 0",
@@ -75,6 +75,7 @@ class MaeGuidance(AotvSlave):
         self.initializing = True
         self.law = None
         self._key = None
+        self._evaluation = None
 
     def _solution_output(self, name, unit, description, getter):
         self.output(name, unit, description, lambda: getter(self._law().solution),
@@ -105,8 +106,15 @@ class MaeGuidance(AotvSlave):
                 self._key = key
         return self.law
 
-    def _command(self):
-        return self._law().command(self._state())
+    def _evaluated(self):
+        """((lambda, bank), (P_u, P_gamma, P_psi)) at the measured state, computed once per state
+        and held solution: the five outputs read in a step share one evaluation."""
+        law, state = self._law(), self._state()
+        held = self._evaluation
+        if held is None or held[0] is not law.solution or held[1] != law.offset or held[2] != state:
+            held = self._evaluation = (law.solution, law.offset, state,
+                                       (law.command(state), law.costates(state)))
+        return held[3]
 
     def enter_initialization_mode(self):
         self.initializing = True

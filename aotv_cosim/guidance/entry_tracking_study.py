@@ -76,10 +76,6 @@ class Run:
     constrained: np.ndarray
     errors: np.ndarray
 
-    def final_errors_nmi(self):
-        """(r0 dtheta, r0 dphi) at E_f in n mi (the paper's Fig. 2 quantities)."""
-        return tuple(sx2.R_EARTH * self.errors[-1] / sx2.NMI)
-
 
 def simulate(perturbation, plant="full", design=Design(), reference=None, step=5e4 * sx2.FT ** 2):
     """Closed loop from the perturbed entry to E_f, RK4 in energy with |dE| <= step (m^2/s^2)."""
