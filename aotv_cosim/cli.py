@@ -12,7 +12,7 @@ from pathlib import Path
 
 import click
 
-from aotv_cosim.errors import AotvError, ValidationFailed
+from aotv_cosim.engine.errors import AotvError, ValidationFailed
 
 DEFAULT_OUT = Path("results")
 
@@ -54,7 +54,7 @@ def _interrupt(signum, frame):
     progress report. Raising anywhere else could land inside an FMU's own Python code (pythonfmu
     runs in this interpreter), which would turn the interruption into an FMU failure, or inside
     the result writers. Later signals are ignored so the partial results get written."""
-    from aotv_cosim.master import Interrupted
+    from aotv_cosim.engine.master import Interrupted
 
     if _Stop.signum is not None:
         return
@@ -98,7 +98,7 @@ def _progress_bar(scenario):
 
     def update(t):
         if _Stop.signum is not None:  # a signal arrived while an FMU or the writers were busy
-            from aotv_cosim.master import Interrupted
+            from aotv_cosim.engine.master import Interrupted
 
             raise Interrupted(signal.Signals(_Stop.signum).name)
         bar.n = round(t - scenario.start, 6)
@@ -148,7 +148,7 @@ def _print_expectations(results):
 
 
 def _run_one(scenario, out_dir, plots):
-    from aotv_cosim.runner import run_scenario
+    from aotv_cosim.engine.runner import run_scenario
 
     bar, update = _progress_bar(scenario)
     try:
@@ -169,7 +169,7 @@ def run(scenario, out, sets, step, no_plots):
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
     SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
-    from aotv_cosim.scenario import load_scenario, parse_sets
+    from aotv_cosim.engine.scenario import load_scenario, parse_sets
 
     def body():
         loaded = load_scenario(scenario, parse_sets(sets), step)
@@ -193,7 +193,7 @@ def check(paths, out):
     """Run every scenario with expectations under PATHS [scenarios/] and compare.
 
     Every scenario found is loaded and validated before the first one runs."""
-    from aotv_cosim.scenario import load_scenario
+    from aotv_cosim.engine.scenario import load_scenario
 
     files = []
     for p in paths or ("scenarios",):
@@ -224,9 +224,9 @@ def check(paths, out):
 @click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False))
 def validate(files):
     """Check scenario, wiring or comparison FILES without running them."""
-    from aotv_cosim.compare import load_comparison
-    from aotv_cosim.scenario import load_scenario
-    from aotv_cosim.system import load_system
+    from aotv_cosim.studies.compare import load_comparison
+    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.engine.system import load_system
 
     loaders = {"wiring": load_system, "scenario": load_scenario, "compare": load_comparison}
 
@@ -244,7 +244,7 @@ def _kind(path):
     'wiring' if it has components or connections, else 'scenario'.
 
     A file that cannot be read or parsed counts as a scenario: its loader reports the problem."""
-    from aotv_cosim.documents import strict_json
+    from aotv_cosim.engine.documents import strict_json
 
     try:
         doc = strict_json(Path(path).read_text(encoding="utf-8"))
@@ -262,7 +262,7 @@ def _kind(path):
 @click.option("--out", type=click.Path(file_okay=False), help="Put the FMUs here instead of the cache.")
 def build_fmus(out):
     """Build every FMU of fmus_src (only those whose sources changed)."""
-    from aotv_cosim import fmu_build
+    from aotv_cosim.fmu import build as fmu_build
 
     def body():
         for name, path in fmu_build.build_all(out).items():
@@ -284,7 +284,7 @@ def build_fmus(out):
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.montecarlo import run_campaign
-    from aotv_cosim.scenario import parse_sets
+    from aotv_cosim.engine.scenario import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
@@ -306,7 +306,7 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 def export_ssp(scenario, out, sets, step):
     """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
-    from aotv_cosim.scenario import load_scenario, parse_sets
+    from aotv_cosim.engine.scenario import load_scenario, parse_sets
     from aotv_cosim.ssp.export import export_ssp as write_ssp
 
     def body():
@@ -326,7 +326,7 @@ def export_ssp(scenario, out, sets, step):
 def compare(comparison, out, no_plots):
     """Fly every guidance law of COMPARISON [scenarios/aotv_compare.json] through the same
     (dispersed) atmosphere; write comparison.csv and comparison.png, print the table."""
-    from aotv_cosim.compare import format_table, load_comparison, run_comparison
+    from aotv_cosim.studies.compare import format_table, load_comparison, run_comparison
 
     def body():
         loaded = load_comparison(comparison)
@@ -348,7 +348,7 @@ def figures():
 @click.option("--out", type=click.Path(file_okay=False), default="results/seed001_figures", show_default=True)
 def figures_seed001(out):
     """Seed-001 report figures 3.4-3.19: gamma, speed, costates, lambda, bank, altitude; guided against optimal."""
-    from aotv_cosim.plane_change_plots import make_all
+    from aotv_cosim.studies.plane_change_plots import make_all
 
     _guard(lambda: [click.echo(Path(out) / name) for name in make_all(Path(out))])
 
@@ -360,7 +360,7 @@ def figures_seed002(run_dir, out):
     """Seed-002 paper figures 1-6 of a finished entry-tracking run in RUN_DIR (from `aotv-cosim run
     scenarios/entry_*.json`): ground track, errors against Mach, alpha and bank with their bands,
     altitude, drag."""
-    from aotv_cosim.entry_plots import plot
+    from aotv_cosim.studies.entry_plots import plot
 
     _guard(lambda: [click.echo(path) for path in plot(run_dir, out)])
 
@@ -370,6 +370,6 @@ def figures_seed002(run_dir, out):
 def figures_seed003(out):
     """Seed-003 nominal glide, alpha per elevator law and the saturation study; prints the metrics table
     (runs the scenarios/shuttle_*.json systems, about a minute)."""
-    from aotv_cosim.shuttle_report import main as report
+    from aotv_cosim.studies.shuttle_report import main as report
 
     _guard(lambda: report(out))

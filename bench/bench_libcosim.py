@@ -15,8 +15,8 @@ import statistics
 import tempfile
 from pathlib import Path
 
-from aotv_cosim.master import Master
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.master import Master
+from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.ssp import libcosim_run
 from aotv_cosim.ssp.export import export_ssp
 

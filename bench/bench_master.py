@@ -15,11 +15,11 @@ from pathlib import Path
 
 from fmpy.fmi2 import FMU2Slave
 
-from aotv_cosim.fmi_instance import extracted
-from aotv_cosim.master import Master
-from aotv_cosim.reference import reference_run
-from aotv_cosim.runner import recorded_columns
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.fmi_instance import extracted
+from aotv_cosim.engine.master import Master
+from aotv_cosim.studies.reference import reference_run
+from aotv_cosim.engine.runner import recorded_columns
+from aotv_cosim.engine.scenario import load_scenario
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "aotv_time_linear_nominal.json"
 

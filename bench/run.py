@@ -29,9 +29,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from aotv_cosim.master import Master  # noqa: E402
-from aotv_cosim.reference import reference_run  # noqa: E402
-from aotv_cosim.scenario import load_scenario  # noqa: E402
+from aotv_cosim.engine.master import Master  # noqa: E402
+from aotv_cosim.studies.reference import reference_run  # noqa: E402
+from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
 
 SCENARIOS = ROOT / "scenarios"
 NOMINAL = SCENARIOS / "aotv_time_linear_nominal.json"

@@ -1,6 +1,6 @@
 """AdaptiveGuidance FMU: real-time feedback adaptive PD law of seed 000, Sec. 8.2 (eqs. 8.5-8.9)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.tracking import AdaptiveLaw
 from aotv_cosim.physics.constants import R_EARTH_000
 
@@ -24,5 +24,5 @@ class AdaptiveGuidance(guidance_slave.NominalTrackingGuidance):
     def design(self, nominal):
         return AdaptiveLaw(nominal, R_EARTH_000, self.K_ball)
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

@@ -3,11 +3,11 @@
 import math
 
 from aotv_cosim.physics import entry, entry_reference, point_mass, sx2
-from aotv_cosim.vehicle_slave import VehicleSlave
+from aotv_cosim.fmu.vehicle_slave import VehicleSlave
 
 
 class AlphaBankVehicle(VehicleSlave):
-    """3-D point mass (aotv_cosim.vehicle_slave) with polynomial polars in alpha (rad).
+    """3-D point mass (aotv_cosim.fmu.vehicle_slave) with polynomial polars in alpha (rad).
 
     C_L = cl0 + cl1 alpha, C_D = cd0 + cd1 alpha + cd2 alpha^2. Defaults are the SX-2 of seed 002
     (simulation section) with its entry state (200,000 ft, 17,000 ft/s, gamma 0), WGS-84 radius and

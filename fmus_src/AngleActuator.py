@@ -1,6 +1,6 @@
 """AngleActuator FMU: one angular channel (rad) with saturation, rate limit and lag."""
 
-from aotv_cosim import actuator_slave
+from aotv_cosim.fmu import actuator_slave
 
 
 class AngleActuator(actuator_slave.ActuatorSlave):
@@ -10,5 +10,5 @@ class AngleActuator(actuator_slave.ActuatorSlave):
     description = "Angle actuator (rad): saturation, rate limit, first-order lag (all off by default)"
     unit = "rad"
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(step_size)

@@ -1,6 +1,6 @@
 """Atmosphere FMU: exponential density rho(h), seed 000 eq. (2.5), with density dispersions."""
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.physics import constants
 from aotv_cosim.physics.atmosphere import density_dispersion, exponential_density
 

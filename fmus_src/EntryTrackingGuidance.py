@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance import entry_tracking as law
 from aotv_cosim.guidance.entry_tracking_reference import Reference
 from aotv_cosim.physics import entry, sx2

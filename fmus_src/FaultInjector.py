@@ -11,7 +11,7 @@ import math
 
 from pythonfmu.enums import Fmi2Status
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 
 KINDS = {0: "none", 1: "raise", 2: "error status", 3: "NaN", 4: "inf"}
 

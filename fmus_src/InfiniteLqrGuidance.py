@@ -1,6 +1,6 @@
 """InfiniteLqrGuidance FMU: infinite-horizon LQR tracker of seed 000, Sec. 5.1 (eqs. 5.5-5.9)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance import lqr
 from aotv_cosim.guidance.tracking import InfiniteLqrLaw
 from aotv_cosim.physics.constants import R_EARTH_000
@@ -26,5 +26,5 @@ class InfiniteLqrGuidance(guidance_slave.NominalTrackingGuidance):
         return InfiniteLqrLaw(nominal, R_EARTH_000, self.K_ball, (self.Q_r, self.Q_v, self.Q_gamma),
                               self.R_u)
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

@@ -1,6 +1,6 @@
 """LiftActuator FMU: one lift-acceleration channel (m/s^2) with saturation, rate limit and lag."""
 
-from aotv_cosim import actuator_slave
+from aotv_cosim.fmu import actuator_slave
 
 
 class LiftActuator(actuator_slave.ActuatorSlave):
@@ -9,5 +9,5 @@ class LiftActuator(actuator_slave.ActuatorSlave):
     description = "Lift-acceleration actuator: saturation, rate limit, first-order lag (all off by default)"
     unit = "m/s2"
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(step_size)

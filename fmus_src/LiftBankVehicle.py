@@ -3,11 +3,11 @@
 import math
 
 from aotv_cosim.physics import mrrv, point_mass
-from aotv_cosim.vehicle_slave import VehicleSlave
+from aotv_cosim.fmu.vehicle_slave import VehicleSlave
 
 
 class LiftBankVehicle(VehicleSlave):
-    """3-D point mass (aotv_cosim.vehicle_slave) with the parabolic polar of seed 001.
+    """3-D point mass (aotv_cosim.fmu.vehicle_slave) with the parabolic polar of seed 001.
 
     C_L = C_L* lambda, C_D = C_D* (1 + lambda^2) / 2, C_D* = C_L*/E* (eqs. 3.9-3.10, 3.14); the
     MRRV data of Sec. 3.7.1 are the defaults, with inverse-square gravity and the entry state of

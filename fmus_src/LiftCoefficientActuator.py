@@ -1,6 +1,6 @@
 """LiftCoefficientActuator FMU: a dimensionless lift channel (normalized lift lambda, seed 001)."""
 
-from aotv_cosim import actuator_slave
+from aotv_cosim.fmu import actuator_slave
 
 
 class LiftCoefficientActuator(actuator_slave.ActuatorSlave):
@@ -10,5 +10,5 @@ class LiftCoefficientActuator(actuator_slave.ActuatorSlave):
     description = "Dimensionless actuator (e.g. normalized lift): saturation, rate limit, lag"
     unit = "1"
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(step_size)

@@ -2,8 +2,8 @@
 
 import math
 
-from aotv_cosim import guidance_slave
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu import guidance_slave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance import mae
 from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw
 from aotv_cosim.physics import mrrv

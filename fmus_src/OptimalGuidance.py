@@ -1,6 +1,6 @@
 """OptimalGuidance FMU: open-loop minimum-effort optimal lift law of seed 000 (Ch. 3, Sec. 4.1)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
 
 
@@ -35,5 +35,5 @@ class OptimalGuidance(guidance_slave.EntryLatchedGuidance):
     def command(self, solution, elapsed):
         return solution.u(elapsed)
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

@@ -5,7 +5,7 @@ import time
 
 import numpy as np
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.plane_change_optimal import PlaneChangeProblem, solve_optimal
 
 
@@ -56,5 +56,5 @@ class PlaneChangeOptimalGuidance(guidance_slave.EntryLatchedGuidance):
         solution = self.solution()
         return float(np.interp(self.time - self.start_time, solution.t, solution.bank))
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

@@ -1,11 +1,11 @@
 """PointMassVehicle FMU: seed-000 AOTV, lift acceleration and bank inputs, parasite drag."""
 
 from aotv_cosim.physics import constants
-from aotv_cosim.vehicle_slave import VehicleSlave
+from aotv_cosim.fmu.vehicle_slave import VehicleSlave
 
 
 class PointMassVehicle(VehicleSlave):
-    """3-D point mass (aotv_cosim.vehicle_slave) commanded by the lift acceleration u = L/m.
+    """3-D point mass (aotv_cosim.fmu.vehicle_slave) commanded by the lift acceleration u = L/m.
 
     Aerodynamics of seed 000 eqs. (2.6)-(2.9): lift acceleration input `u_lift` and parasite drag
     D/m = rho v^2 C_D0 / (2 m/S). Defaults are the planar seed-000 configuration (Table 4.1,

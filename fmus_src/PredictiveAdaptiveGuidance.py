@@ -1,6 +1,6 @@
 """PredictiveAdaptiveGuidance FMU: predictive adaptive law of seed 000 Sec. 8.1 (eqs. 8.1-8.4)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.predictive import solve_predictive_adaptive
 from aotv_cosim.physics import aero, constants
 
@@ -47,5 +47,5 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
     def command(self, solution, elapsed):
         return solution[1].a + solution[1].b * elapsed
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

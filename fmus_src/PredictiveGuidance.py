@@ -1,6 +1,6 @@
 """PredictiveGuidance FMU: predictive time-linear law of seed 000 Ch. 6 (extraction Sec. 4.4)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.predictive import solve_predictive
 
 
@@ -35,5 +35,5 @@ class PredictiveGuidance(guidance_slave.EntryLatchedGuidance):
     def command(self, solution, elapsed):
         return solution.a + solution.b * elapsed
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

@@ -1,6 +1,6 @@
 """RobustGuidance FMU: robust linear feedback of seed 000, Ch. 7 (eqs. 7.1-7.5)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.tracking import RobustLaw
 from aotv_cosim.physics.constants import R_EARTH_000
 
@@ -18,5 +18,5 @@ class RobustGuidance(guidance_slave.NominalTrackingGuidance):
     def design(self, nominal):
         return RobustLaw(nominal, R_EARTH_000)
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

@@ -1,7 +1,7 @@
 """ShuttleAdaptive FMU: seed 003 Slotine-Li modified adaptive elevator law, eqs. (5.28)-(5.35)."""
 
-from aotv_cosim import guidance_slave
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu import guidance_slave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance.shuttle_laws import ADAPTIVE_GAINS, AdaptiveLaw
 from aotv_cosim.physics.shuttle_pitch import GENERIC
 

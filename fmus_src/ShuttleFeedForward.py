@@ -1,7 +1,7 @@
 """ShuttleFeedForward FMU: seed 003 feed-forward disturbance cancellation, eq. (2.16)."""
 
-from aotv_cosim import guidance_slave
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu import guidance_slave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance.shuttle_laws import feed_forward
 
 

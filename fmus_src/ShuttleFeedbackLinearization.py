@@ -1,7 +1,7 @@
 """ShuttleFeedbackLinearization FMU: seed 003 feedback-linearizing elevator law, eq. (3.7)."""
 
-from aotv_cosim import guidance_slave
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu import guidance_slave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance.shuttle_laws import feedback_linearization
 
 INPUTS = ("alpha", "alpha_prime", "omega0", "omega1", "f", "mu")

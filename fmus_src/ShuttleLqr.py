@@ -4,8 +4,8 @@ import time
 
 import numpy as np
 
-from aotv_cosim import guidance_slave
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu import guidance_slave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance import shuttle_lqr as lqr
 from aotv_cosim.physics import shuttle_trajectory as st
 

@@ -2,7 +2,7 @@
 
 import math
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.physics import shuttle_trajectory as st
 
 

@@ -1,6 +1,6 @@
 """TerminalLqrGuidance FMU: terminal-time LQR tracker of seed 000, Sec. 5.2 (eqs. 5.10-5.18)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance import lqr
 from aotv_cosim.guidance.tracking import TerminalLqrLaw
 from aotv_cosim.physics.constants import R_EARTH_000
@@ -30,5 +30,5 @@ class TerminalLqrGuidance(guidance_slave.NominalTrackingGuidance):
                               (self.Q_r, self.Q_v, self.Q_gamma), self.R_u,
                               (self.V_r, self.V_v, self.V_gamma))
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

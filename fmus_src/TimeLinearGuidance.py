@@ -1,6 +1,6 @@
 """TimeLinearGuidance FMU: approximate time-linear optimal lift law, seed 000 eqs. (4.23), (4.28)."""
 
-from aotv_cosim import guidance_slave
+from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.time_linear import approximate_law_coefficients
 
 
@@ -31,5 +31,5 @@ class TimeLinearGuidance(guidance_slave.EntryLatchedGuidance):
         a, b = solution
         return a + b * elapsed
 
-    def do_step(self, current_time, step_size):  # defined here: see fmu_build.check_defines_do_step
+    def do_step(self, current_time, step_size):  # defined here: see fmu.build.check_defines_do_step
         return self.advance(current_time, step_size)

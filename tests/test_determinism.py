@@ -6,8 +6,8 @@ import os
 import subprocess
 import sys
 
-from aotv_cosim.runner import run_scenario
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.runner import run_scenario
+from aotv_cosim.engine.scenario import load_scenario
 from conftest import NOMINAL, ROOT
 
 TIMINGS = {"wall_time_s", "init_time_s", "us_per_step"}

@@ -11,7 +11,7 @@ import pytest
 from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
-from aotv_cosim import fmu_build
+from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.physics import point_mass
 
 
@@ -63,7 +63,7 @@ def test_fmu_class_must_define_do_step(tmp_path, monkeypatch):
     """pythonfmu 0.7 finds the slave class through do_step's owner: an inherited do_step is refused."""
     src = tmp_path / "fmus_src"
     src.mkdir()
-    (src / "Bad.py").write_text("from aotv_cosim.actuator_slave import ActuatorSlave\n\n\n"
+    (src / "Bad.py").write_text("from aotv_cosim.fmu.actuator_slave import ActuatorSlave\n\n\n"
                                 "class Bad(ActuatorSlave):\n    unit = 'rad'\n")
     monkeypatch.setattr(fmu_build, "fmus_src_dir", lambda: src)
     with pytest.raises(fmu_build.BuildError, match="define do_step"):

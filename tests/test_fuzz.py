@@ -13,10 +13,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from aotv_cosim.documents import load_document
-from aotv_cosim.errors import AotvError
-from aotv_cosim.scenario import load_scenario
-from aotv_cosim.system import load_system
+from aotv_cosim.engine.documents import load_document
+from aotv_cosim.engine.errors import AotvError
+from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.engine.system import load_system
 from conftest import NOMINAL, WIRING
 
 SCENARIO = json.loads(NOMINAL.read_text())

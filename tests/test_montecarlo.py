@@ -10,11 +10,11 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from aotv_cosim.errors import InputError
+from aotv_cosim.engine.errors import InputError
 from aotv_cosim.montecarlo import run_campaign
 from aotv_cosim.montecarlo.draws import draw
 from aotv_cosim.montecarlo.report import ellipse_3sigma
-from aotv_cosim.scenario import Dispersion, load_scenario
+from aotv_cosim.engine.scenario import Dispersion, load_scenario
 from conftest import SCENARIOS, write_json
 
 CAMPAIGN = SCENARIOS / "montecarlo_time_linear_density.json"
@@ -107,7 +107,7 @@ def test_fmus_run_in_this_process_do_not_shadow_the_package_for_spawned_workers(
     process spawned afterwards (a Dask worker) would import that copy instead of the package."""
     import sys
 
-    from aotv_cosim.master import Master
+    from aotv_cosim.engine.master import Master
 
     Master(load_scenario(CAMPAIGN), lambda times, rows: None).run()
     first = next(p for p in sys.path if (Path(p or ".") / "aotv_cosim" / "__init__.py").is_file())

@@ -1,4 +1,4 @@
-"""The seed-000 comparison study (aotv_cosim.compare, `aotv-cosim compare`): every law through the
+"""The seed-000 comparison study (aotv_cosim.studies.compare, `aotv-cosim compare`): every law through the
 same atmosphere, one table and one overlay plot."""
 
 import csv
@@ -7,8 +7,8 @@ import pytest
 from click.testing import CliRunner
 
 from aotv_cosim.cli import main
-from aotv_cosim.compare import COLUMNS, load_comparison, run_comparison
-from aotv_cosim.errors import InputError
+from aotv_cosim.studies.compare import COLUMNS, load_comparison, run_comparison
+from aotv_cosim.engine.errors import InputError
 
 from conftest import SCENARIOS, write_json
 

@@ -9,9 +9,9 @@ import json
 
 import pytest
 
-from aotv_cosim.reference import reference_run
-from aotv_cosim.runner import run_scenario
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.studies.reference import reference_run
+from aotv_cosim.engine.runner import run_scenario
+from aotv_cosim.engine.scenario import load_scenario
 
 from conftest import SCENARIOS
 

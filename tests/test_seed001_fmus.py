@@ -9,8 +9,8 @@ import math
 
 import pytest
 
-from aotv_cosim.runner import run_scenario
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.runner import run_scenario
+from aotv_cosim.engine.scenario import load_scenario
 
 from conftest import SCENARIOS
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
-from aotv_cosim.guidance import mae, mae_first_order, mae_toy
+from aotv_cosim.guidance import mae, mae_first_order, mae_solution, mae_toy
 from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw
 from aotv_cosim.physics import mrrv, orbit, point_mass
 
@@ -206,7 +206,7 @@ def test_open_loop_composite_controls_and_end_points(nominal):
     the boundary data (z = 60 km, 7851 m/s, -1.35 deg; 60 km, +1 deg, P_u = 1 (3.116)).
     [V] 9.2: lambda 0.9837 / mu 90.05 deg at entry, 1.0199 / 80.85 deg at exit, V_f 6742.63 m/s."""
     k = nominal.constants
-    h = mae.open_loop(k, np.linspace(0.0, D(20.0), 401), MODEL.r_earth)
+    h = mae_solution.open_loop(k, np.linspace(0.0, D(20.0), 401), MODEL.r_earth)
     assert np.all((h.lam >= 0.95) & (h.lam <= 1.05))
     assert np.all((np.degrees(h.bank) >= 70.0) & (np.degrees(h.bank) <= 92.0))
     np.testing.assert_allclose([h.z[0], h.v[0], h.gamma[0]], [60.0e3, 7851.0, D(-1.35)], rtol=1e-9)
@@ -239,7 +239,7 @@ def test_control_law_is_a_stationary_maximum_of_the_hamiltonian():
         return ham * math.sin(gamma)
 
     for gamma in (D(-1.2), D(2.0)):
-        lam, bank = mae.control_from_costates(u, gamma, p_u, p_g, p_psi, e_star)
+        lam, bank = mae_solution.control_from_costates(u, gamma, p_u, p_g, p_psi, e_star)
         assert math.tan(bank) == pytest.approx(p_psi / (p_g * math.cos(gamma)), rel=1e-12)
         assert lam == pytest.approx(e_star * (p_g * math.cos(bank) + p_psi * math.sin(bank) / math.cos(gamma))
                                     / (2 * u * p_u), rel=1e-12)
@@ -356,7 +356,7 @@ def test_first_order_costates_at_entry(nominal):
     np.testing.assert_allclose(zeroth, [0.764, 0.0495, 0.635], atol=6e-4)
     p_u, p_gamma, p_psi = mae_first_order.first_order_costates(nominal, state, TARGETS, MODEL)
     assert [p_u, p_psi] == pytest.approx([0.779, 0.634], abs=1e-3)
-    composite = mae.composite_costates(nominal.constants, state.r, state.v, state.gamma, state.psi)
+    composite = mae_solution.composite_costates(nominal.constants, state.r, state.v, state.gamma, state.psi)
     assert composite[2] < 0.027 < p_gamma
 
 

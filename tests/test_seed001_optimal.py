@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 from aotv_cosim.guidance import mae
-from aotv_cosim.plane_change_plots import optimal_in_mae_units
+from aotv_cosim.studies.plane_change_plots import optimal_in_mae_units
 from aotv_cosim.guidance.plane_change_optimal import (
     PlaneChangeProblem, heading_rates, solve_optimal,
 )

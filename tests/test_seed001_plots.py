@@ -1,10 +1,10 @@
-"""Seed-001 figures (aotv_cosim.plane_change_plots, after Calise & Melamed Figs. 3.4-3.19)."""
+"""Seed-001 figures (aotv_cosim.studies.plane_change_plots, after Calise & Melamed Figs. 3.4-3.19)."""
 
 import math
 
 import numpy as np
 
-from aotv_cosim import plane_change_plots as pcp
+from aotv_cosim.studies import plane_change_plots as pcp
 from aotv_cosim.guidance import mae
 
 

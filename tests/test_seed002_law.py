@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from aotv_cosim.guidance import entry_tracking as law
-from aotv_cosim.guidance import entry_tracking_study as study
+from aotv_cosim.studies import entry_tracking_study as study
 from aotv_cosim.guidance.entry_tracking_reference import Reference, read_table
 from aotv_cosim.physics import entry, entry_reference, sx2
 
@@ -50,8 +50,8 @@ def test_reference_design_targets():
 
 
 def test_table_is_reproduced_by_the_command(tmp_path):
-    """The checked-in table is what `python -m aotv_cosim.entry_reference` writes today."""
-    from aotv_cosim.entry_reference import generate
+    """The checked-in table is what `python -m aotv_cosim.studies.entry_reference` writes today."""
+    from aotv_cosim.studies.entry_reference import generate
 
     generate(tmp_path / "t.csv")
     new, old = read_table(tmp_path / "t.csv"), read_table()

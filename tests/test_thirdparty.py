@@ -30,9 +30,9 @@ from pathlib import Path
 
 import pytest
 
-from aotv_cosim.fmu_build import cache_dir
-from aotv_cosim.runner import run_scenario
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.fmu.build import cache_dir
+from aotv_cosim.engine.runner import run_scenario
+from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.ssp import libcosim_run
 from aotv_cosim.ssp.export import export_ssp
 from conftest import SCENARIOS

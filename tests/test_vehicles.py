@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from aotv_cosim import fmu_build
+from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.physics import mrrv, orbit, point_mass, sx2
 
 RHO = 2.0e-4

@@ -1,4 +1,4 @@
-"""The seed 002 reference trajectory table: written by `python -m aotv_cosim.entry_reference`, read
+"""The seed 002 reference trajectory table: written by `python -m aotv_cosim.studies.entry_reference`, read
 by the tracking guidance (bundled into its FMU next to this module).
 
 Columns (SI): energy E (m^2/s^2, decreasing, last row = terminal energy E_f), the guidance state

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from aotv_cosim.guidance import mae
+from aotv_cosim.guidance import mae, mae_solution
 
 QUAD_NODES = 64
 """Gauss-Legendre nodes per heading interval of the quadrature."""
@@ -33,7 +33,7 @@ def _gamma_cot_gamma(gamma):
     return np.cos(gamma) / np.sinc(gamma / math.pi)
 
 
-def _integral(k: mae.MaeConstants, side: mae.OuterSide, psi_a: float, psi_b: float) -> float:
+def _integral(k: mae_solution.MaeConstants, side: mae_solution.OuterSide, psi_a: float, psi_b: float) -> float:
     """int_{psi_a}^{psi_b} (gamma/(sigma w)) [R_1^i - R_inf] dpsi on one side (Gauss-Legendre)."""
     if psi_b <= psi_a:
         return 0.0
@@ -48,14 +48,14 @@ def _integral(k: mae.MaeConstants, side: mae.OuterSide, psi_a: float, psi_b: flo
     return float(0.5 * (psi_b - psi_a) * np.dot(wts, integrand))
 
 
-def return_correction(k: mae.MaeConstants, psi_i: float, psi_f: float) -> float:
+def return_correction(k: mae_solution.MaeConstants, psi_i: float, psi_f: float) -> float:
     """Q(x_i) of the module docstring (dimensionless, u units); psi_i, psi_f in rad."""
     if k.mode == mae.ENTRY and psi_i < k.psi_s:
         return -_integral(k, k.left, psi_i, k.psi_s) - _integral(k, k.right, k.psi_s, psi_f)
     return -_integral(k, k.right, psi_i, psi_f)
 
 
-def return_function(k: mae.MaeConstants, state: mae.State, targets: mae.Targets, r_earth: float,
+def return_function(k: mae_solution.MaeConstants, state: mae.State, targets: mae.Targets, r_earth: float,
                     gs_rs_ref: float, order: int = 1) -> float:
     """P_1^c = u_f^c + eps Q at `state` (order 1) or P_0^c = u_f^c (order 0), with u_f in units
     of gs_rs_ref (m^2/s^2)."""

@@ -4,7 +4,7 @@ Calise & Melamed, NASA CR-194523 (1993), Sec. 3.8.1 as read in the seed-001 extr
 A16-A19): the zeroth-order MAE problem (`mae.solve`) is re-solved every `period` seconds (5 s in
 Sec. 3.8.2) from the measured state, warm-started from the previous solution; between re-solves
 the held constants give the composite costates at the measured state and lambda, mu follow from
-(3.26)-(3.27) at every evaluation (`mae.composite_costates`, `mae.control_from_costates`). The
+(3.26)-(3.27) at every evaluation (`mae_solution.composite_costates`, `mae_solution.control_from_costates`). The
 exit phase starts when the measured gamma >= 0 (r_s frozen, left outer solution dropped); a
 failed re-solve keeps the last converged constants (A19).
 
@@ -22,7 +22,7 @@ turning the vehicle past psi_f, and turning costs speed: dV/dpsi is about V/E* (
 import math
 from dataclasses import dataclass, field
 
-from aotv_cosim.guidance import mae, mae_first_order
+from aotv_cosim.guidance import mae, mae_first_order, mae_solution
 
 TIME_TOL = 1e-9
 """Relative slack (of the period) when deciding whether a re-solve is due, so that float sums of
@@ -34,7 +34,7 @@ class MaeGuidanceLaw:
     """State of the feedback law: the last solution, the next re-solve time and a solve log.
 
     targets: exit conditions; period: time between re-solves (s); measured_u_in_p_u: extraction
-    A17 option of `mae.composite_costates`; stop_turn_at_psi_f: see the module docstring.
+    A17 option of `mae_solution.composite_costates`; stop_turn_at_psi_f: see the module docstring.
     solutions logs every solve as (time s, measured `mae.State`, `mae.MaeSolution`).
     """
 
@@ -73,13 +73,13 @@ class MaeGuidanceLaw:
         return tuple(a - b for a, b in zip(first, self._zeroth_costates(state)))
 
     def _zeroth_costates(self, state: mae.State):
-        return mae.composite_costates(self.solution.constants, state.r, state.v, state.gamma,
+        return mae_solution.composite_costates(self.solution.constants, state.r, state.v, state.gamma,
                                       state.psi, self.measured_u_in_p_u)[1:]
 
     def command(self, state: mae.State):
         """(lambda, bank mu in rad) from the held constants at the measured state (3.26)-(3.27)."""
         u = state.v * state.v / self.solution.constants.gs_rs
-        lam, bank = mae.control_from_costates(u, state.gamma, *self.costates(state),
+        lam, bank = mae_solution.control_from_costates(u, state.gamma, *self.costates(state),
                                               self.solution.constants.e_star)
         lam, bank = float(lam), float(bank)
         if self.stop_turn_at_psi_f and state.psi >= self.targets.psi_f:

@@ -3,13 +3,13 @@
 import time
 from pathlib import Path
 
-from aotv_cosim.errors import InputError
+from aotv_cosim.engine.errors import InputError
 from aotv_cosim.montecarlo import backends, report
 from aotv_cosim.montecarlo.draws import draw
 from aotv_cosim.montecarlo.store import RowStore
 from aotv_cosim.montecarlo.worker import columns
-from aotv_cosim.results import write_json_atomically
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.results import write_json_atomically
+from aotv_cosim.engine.scenario import load_scenario
 
 
 def batches_of(items, workers):

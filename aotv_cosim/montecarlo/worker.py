@@ -10,9 +10,9 @@ import threading
 
 import numpy as np
 
-from aotv_cosim.master import Master
-from aotv_cosim.runner import recorded_columns
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.master import Master
+from aotv_cosim.engine.runner import recorded_columns
+from aotv_cosim.engine.scenario import load_scenario
 
 _LOCAL = threading.local()
 

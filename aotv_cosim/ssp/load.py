@@ -19,7 +19,7 @@ import zipfile
 from pathlib import Path, PurePosixPath
 from xml.etree import ElementTree
 
-from aotv_cosim.errors import InputError
+from aotv_cosim.engine.errors import InputError
 from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
                                 schema_problems)
 
@@ -29,8 +29,8 @@ FMU_TYPE = "application/x-fmu-sharedlibrary"
 
 def extract(path: Path) -> Path:
     """The folder holding the extracted archive `path` (extracted once per distinct content)."""
-    from aotv_cosim.fmu_build import cache_dir
-    from aotv_cosim.system import check_archive
+    from aotv_cosim.fmu.build import cache_dir
+    from aotv_cosim.engine.system import check_archive
 
     path = Path(path)
     if not path.is_file():

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import jsonschema
 
-from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.engine.errors import InputError, raise_if_any
 
 SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
            "compare": "compare.schema.json"}

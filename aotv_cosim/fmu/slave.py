@@ -11,7 +11,7 @@ The master reads those dependencies to order components and to reject algebraic 
 get_real/set_real are overridden with precomputed getter/setter tables: the FMI call floor of a
 Python FMU is dominated by this per-call Python work.
 
-This module is bundled into every FMU (``fmu_build.RUNTIME``): it may import only pythonfmu,
+This module is bundled into every FMU (``aotv_cosim.fmu.build.RUNTIME``): it may import only pythonfmu,
 the standard library and other bundled modules.
 """
 

@@ -1,4 +1,4 @@
-"""Seed 002 Figs. 1-6 from a run of an entry_* scenario: `python -m aotv_cosim.entry_plots RUN_DIR`.
+"""Seed 002 Figs. 1-6 from a run of an entry_* scenario: `python -m aotv_cosim.studies.entry_plots RUN_DIR`.
 
 RUN_DIR is the output folder of `aotv-cosim run scenarios/entry_<plant>_<case>.json` (its
 timeseries.csv records the signals listed in `entry_scenarios.RECORD`). Writes fig1..fig6 PNGs

@@ -21,12 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
-from aotv_cosim.documents import load_document
-from aotv_cosim.errors import InputError
+from aotv_cosim.engine.documents import load_document
+from aotv_cosim.engine.errors import InputError
 from aotv_cosim.physics.planar import EXIT_000
-from aotv_cosim.runner import run_scenario
-from aotv_cosim.scenario import Scenario, StopCondition
-from aotv_cosim.system import load_system
+from aotv_cosim.engine.runner import run_scenario
+from aotv_cosim.engine.scenario import Scenario, StopCondition
+from aotv_cosim.engine.system import load_system
 
 SIGNALS = ("vehicle.h", "vehicle.v", "vehicle.gamma", "vehicle.qdot", "vehicle.int_u2",
            "vehicle.apogee_alt", "vehicle.dv_circ", "guidance.u")

@@ -17,9 +17,9 @@ from pathlib import Path, PurePosixPath
 
 from fmpy import read_model_description
 
-from aotv_cosim import fmu_build
-from aotv_cosim.documents import check_document, load_document
-from aotv_cosim.errors import AotvError, InputError, raise_if_any
+from aotv_cosim.fmu import build as fmu_build
+from aotv_cosim.engine.documents import check_document, load_document
+from aotv_cosim.engine.errors import AotvError, InputError, raise_if_any
 
 
 @dataclass(frozen=True)

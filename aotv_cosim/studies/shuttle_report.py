@@ -1,6 +1,6 @@
 """Seed 003 report: runs the thesis and saturation scenarios, prints their metrics, draws figures.
 
-    python -m aotv_cosim.shuttle_report OUT_DIR      (about 2 min on one core)
+    python -m aotv_cosim.studies.shuttle_report OUT_DIR      (about 2 min on one core)
 
 Figures: the nominal glide and its coefficient histories (omega0, omega1, |f|, mu), alpha versus
 time for every law at both start points, and, for the saturation study, alpha and the elevator
@@ -21,10 +21,10 @@ import numpy as np  # noqa: E402
 
 from aotv_cosim.physics import shuttle_trajectory as st  # noqa: E402
 from aotv_cosim.physics.shuttle_pitch import FT  # noqa: E402
-from aotv_cosim.runner import run_scenario  # noqa: E402
-from aotv_cosim.scenario import load_scenario  # noqa: E402
+from aotv_cosim.engine.runner import run_scenario  # noqa: E402
+from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
 
-SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 LAWS = ("feedforward", "fl", "lqr", "adaptive")
 THESIS = [f"{law}_{alt}" for alt in ("400kft", "150kft") for law in LAWS] + ["lqr_asymptotic_150kft"]
 SATURATION = ["saturation_fl", "saturation_lqr_open", "saturation_lqr_feedback",

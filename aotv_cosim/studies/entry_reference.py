@@ -1,4 +1,4 @@
-"""Generate the seed 002 reference table: `python -m aotv_cosim.entry_reference [--out PATH]`.
+"""Generate the seed 002 reference table: `python -m aotv_cosim.studies.entry_reference [--out PATH]`.
 
 Integrates the reference controls of `physics.entry_reference` open loop in energy and writes the
 table the tracking guidance reads (`guidance.entry_tracking_reference.TABLE` by default), then

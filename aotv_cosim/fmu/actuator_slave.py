@@ -7,7 +7,7 @@ of `advance` (pythonfmu needs ``do_step`` on the FMU class itself). Bundled into
 
 import math
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.physics.actuator import advance, saturate
 
 

@@ -22,8 +22,8 @@ from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFr
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 from fmpy import calloc, free
 
-from aotv_cosim import fmu_build
-from aotv_cosim.errors import SimulationError
+from aotv_cosim.fmu import build as fmu_build
+from aotv_cosim.engine.errors import SimulationError
 
 STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
 

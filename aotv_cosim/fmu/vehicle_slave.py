@@ -13,7 +13,7 @@ once. Bundled into the FMUs (``fmu_build.RUNTIME``).
 import math
 import sys
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.physics import aero, constants, orbit, point_mass
 from aotv_cosim.physics.atmosphere import exponential_density
 

@@ -39,8 +39,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from aotv_cosim.errors import InputError, SimulationError
-from aotv_cosim.fmi_instance import FmuInstance
+from aotv_cosim.engine.errors import InputError, SimulationError
+from aotv_cosim.engine.fmi_instance import FmuInstance
 
 CHUNK = 1000
 """Communication points recorded between two flushes to the result files."""

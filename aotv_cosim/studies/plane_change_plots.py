@@ -12,7 +12,7 @@ are our own curves for the same quantities:
 Optimal costates are put in the MAE normalization (J = u_f = V_f^2/(g_s r_s), r_s at the lowest
 point): P_u = p_v V_f/V, P_gamma = p_gamma 2 V_f/(g_s r_s), with p = dV_f/dx.
 
-    python -m aotv_cosim.plane_change_plots [--out results/seed001_figures]
+    python -m aotv_cosim.studies.plane_change_plots [--out results/seed001_figures]
 """
 
 import argparse
@@ -25,11 +25,11 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from aotv_cosim.guidance import mae  # noqa: E402
+from aotv_cosim.guidance import mae, mae_solution  # noqa: E402
 from aotv_cosim.guidance.plane_change_optimal import solve_optimal  # noqa: E402
 from aotv_cosim.physics import mrrv  # noqa: E402
 
-SCENARIO = Path(__file__).resolve().parent.parent / "scenarios" / "plane_change_mae_guided.json"
+SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "plane_change_mae_guided.json"
 ENTRY = mae.State(mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
 TARGETS = mae.Targets(60.0e3, math.radians(1.0), math.radians(20.0))
 END_WINDOW = 40.0
@@ -59,13 +59,13 @@ def _figure(path, title, xlabel, ylabel, curves):
     return path.name
 
 
-def open_loop_curves(k: mae.MaeConstants, psi: np.ndarray):
+def open_loop_curves(k: mae_solution.MaeConstants, psi: np.ndarray):
     """Inner, outer and composite gamma (deg), V (m/s), P_gamma, P_u along the open-loop composite.
 
     Outer values use the left side before the lowest point psi_s and the right side after it,
     at the composite altitude; inner values are the (3.61)-(3.64) functions of psi.
     """
-    hist = mae.open_loop(k, psi, mrrv.R_EARTH)
+    hist = mae_solution.open_loop(k, psi, mrrv.R_EARTH)
     h = (hist.z + mrrv.R_EARTH - k.r_s) / k.r_s
     left = psi < k.psi_s
 
@@ -121,8 +121,8 @@ def run_guided(out: Path, scenario_path: Path = SCENARIO):
 
     Returns ({signal: array, 'time': array}, exit speed in m/s interpolated at the 60 km crossing).
     """
-    from aotv_cosim.runner import run_scenario
-    from aotv_cosim.scenario import load_scenario
+    from aotv_cosim.engine.runner import run_scenario
+    from aotv_cosim.engine.scenario import load_scenario
 
     run_dir = out / "guided"
     summary = run_scenario(load_scenario(scenario_path), run_dir, make_plots=False)

@@ -22,11 +22,11 @@ from xml.etree import ElementTree
 import pythonfmu
 from pythonfmu.builder import FmuBuilder
 
-from aotv_cosim.errors import BuildError
+from aotv_cosim.engine.errors import BuildError
 
-PACKAGE_DIR = Path(__file__).resolve().parent
-RUNTIME = ("__init__.py", "fmu_slave.py", "actuator_slave.py", "guidance_slave.py", "vehicle_slave.py",
-           "physics", "guidance")
+PACKAGE_DIR = Path(__file__).resolve().parents[1]
+RUNTIME = ("__init__.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
+           "fmu/vehicle_slave.py", "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
 RUNTIME_PATTERNS = ("*.py", "*.csv")
 """Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""

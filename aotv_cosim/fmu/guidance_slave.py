@@ -18,7 +18,7 @@ import time as clock
 from abc import abstractmethod
 from functools import lru_cache
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu.slave import AotvSlave
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
 from aotv_cosim.physics import mrrv
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000

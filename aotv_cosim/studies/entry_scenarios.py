@@ -1,4 +1,4 @@
-"""Write the seed 002 regression scenarios: `python -m aotv_cosim.entry_scenarios`.
+"""Write the seed 002 regression scenarios: `python -m aotv_cosim.studies.entry_scenarios`.
 
 One scenario per perturbation of the paper's set (`guidance.entry_tracking_study.PERTURBATIONS`)
 and per plant (ideal: drag at alpha_ref; full: drag at the commanded alpha), plus the nominal
@@ -14,10 +14,10 @@ import json
 from pathlib import Path
 
 from aotv_cosim.guidance.entry_tracking_reference import read_table
-from aotv_cosim.guidance.entry_tracking_study import PERTURBATIONS
+from aotv_cosim.studies.entry_tracking_study import PERTURBATIONS
 from aotv_cosim.physics import sx2
 
-SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 PAPER_BOUND_NMI = 1.0
 """The paper: "final errors in downrange and crossrange ... less than 1 n mile in all cases"."""
 NOMINAL_BOUND_NMI = 0.35

@@ -4,9 +4,9 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from aotv_cosim.documents import load_document
-from aotv_cosim.errors import InputError, raise_if_any
-from aotv_cosim.system import System, load_system
+from aotv_cosim.engine.documents import load_document
+from aotv_cosim.engine.errors import InputError, raise_if_any
+from aotv_cosim.engine.system import System, load_system
 
 
 MAX_STEPS = 1e9
@@ -88,7 +88,7 @@ class Scenario:
 
 def parse_sets(pairs, origin="--set") -> dict:
     """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be)."""
-    from aotv_cosim.documents import json_value
+    from aotv_cosim.engine.documents import json_value
 
     values = {}
     for text in pairs or ():

@@ -3,9 +3,10 @@
 import platform
 from pathlib import Path
 
-from aotv_cosim import __version__, plots
-from aotv_cosim.master import Master, signals_to_read
-from aotv_cosim.results import (TimeSeriesWriter, evaluate_expectations, statistics,
+from aotv_cosim import __version__
+from aotv_cosim.engine import plots
+from aotv_cosim.engine.master import Master, signals_to_read
+from aotv_cosim.engine.results import (TimeSeriesWriter, evaluate_expectations, statistics,
                                 write_json_atomically)
 
 

@@ -1,0 +1,4 @@
+"""Seed studies: the seed documents' figures and reports, generators of reference tables and
+scenarios, the seed-000 law comparison, and the monolithic SciPy reference the co-simulation is
+checked against. They drive the engine; nothing in the engine or the FMUs imports them.
+"""
