@@ -8,8 +8,12 @@ and a well-formed FMU whose Integer output cannot feed a Real input.
 import zipfile
 from pathlib import Path
 
+from fmpy import platform, sharedLibraryExtension
+
 HERE = Path(__file__).resolve().parent / "fmus"
 DATE = (1980, 1, 1, 0, 0, 0)
+BINARY = f"binaries/{platform}/Crafted{sharedLibraryExtension}"
+"""Where the FMU loader looks for the binary of modelIdentifier Crafted on this platform."""
 
 
 def description(kind="<CoSimulation modelIdentifier=\"Crafted\"/>", causality="output", type_="Integer"):
@@ -38,7 +42,7 @@ def main():
     write_zip("bad_xml.fmu", {"modelDescription.xml": "<fmiModelDescription fmiVersion=\"2.0\"\n"})
     write_zip("model_exchange.fmu", {"modelDescription.xml": description(
         "<ModelExchange modelIdentifier=\"Crafted\"/>")})
-    write_zip("integer_port.fmu", {"modelDescription.xml": description()})
+    write_zip("integer_port.fmu", {"modelDescription.xml": description(), BINARY: "not a library\n"})
     write_zip("absolute_member.fmu", {"modelDescription.xml": description(), "/tmp/aotv_evil.txt": "x\n"})
     write_zip("dotdot_member.fmu", {"modelDescription.xml": description(), "resources/../../evil.txt": "x\n"})
 
