@@ -32,7 +32,7 @@ def check_sizes(archive: zipfile.ZipFile, path, *, file=None, entry=None) -> Non
     infos = archive.infolist()
 
     def refuse(cause, fix):
-        raise InputError(f"{name}: {cause}", file=file or path, entry=entry, fix=fix)
+        raise InputError(f"{name}: {cause}" if file else cause, file=file or path, entry=entry, fix=fix)
 
     if len(infos) > MAX_MEMBERS:
         refuse(f"{len(infos)} members, more than {MAX_MEMBERS}", "give an archive with fewer files")
@@ -103,6 +103,7 @@ def check_fmu_members(path, model_identifier: str, *, file=None, entry=None) -> 
         except (zipfile.BadZipFile, OSError, EOFError, NotImplementedError, RuntimeError) as exc:
             bad = f"({exc})"
     if bad is not None:
-        raise InputError(f"{path.name}: member {bad} is corrupt", file=file or path, entry=entry,
+        raise InputError(f"{path.name}: member {bad} is corrupt" if file else f"member {bad} is corrupt",
+                         file=file or path, entry=entry,
                          fix="give an intact FMU (rebuild or copy it again)")
     _INTACT.add(key)
