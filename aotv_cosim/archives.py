@@ -90,7 +90,7 @@ def check_fmu_members(path, model_identifier: str, *, file=None, entry=None) -> 
         names = archive.namelist()
         if binary not in names:
             present = sorted(n for n in names if n.startswith("binaries/") and not n.endswith("/"))
-            raise InputError(f"{path.name} has no {binary} (modelIdentifier {model_identifier!r}; "
+            raise InputError(f"{path.name} has no {binary} (modelIdentifier {model_identifier!r}, "
                              f"binaries present: {', '.join(present) or 'none'})", file=file or path,
                              entry=entry, fix=f"give an FMU built for {platform} whose binary is named "
                                               "after its modelIdentifier")

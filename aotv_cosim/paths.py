@@ -45,7 +45,7 @@ def regular_file(path, *, what="file", file=None, entry=None, max_bytes=None) ->
     try:
         info = os.stat(path)
     except (OSError, ValueError) as exc:
-        cause = "file not found" if isinstance(exc, FileNotFoundError) else f"cannot read: {_os_cause(exc)}"
+        cause = "file not found" if isinstance(exc, FileNotFoundError) else f"cannot be read: {_os_cause(exc)}"
         raise InputError(cause if file is None else f"{cause}: {path}", file=where, entry=entry,
                          fix=f"give the path of an existing {what}")
     if stat.S_ISDIR(info.st_mode):
