@@ -142,3 +142,22 @@ def test_an_invalid_ssp_algorithm_is_refused(nominal_ssp, tmp_path):
         load_scenario(rewritten(nominal_ssp, tmp_path / "rk4.ssp", {SSD: text}))
     assert load_scenario(nominal_ssp).algorithm == "gauss-seidel"
 
+
+
+def test_unit_conversion_rules():
+    """to_fmu_unit: factor and offset through the base units, plain SI names, refusals."""
+    from aotv_cosim.ssp.units import to_fmu_unit
+
+    m, km = ((0, 1, 0, 0, 0, 0, 0, 0), 1.0, 0.0), ((0, 1, 0, 0, 0, 0, 0, 0), 1000.0, 0.0)
+    kelvin, celsius = ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 0.0), ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 273.15)
+    convert = lambda v, u, f, ssp, fmu: to_fmu_unit(v, u, f, ssp, fmu, file="x.ssp", entry="p")
+    assert convert(2.5, "km", "m", {"km": km}, {"m": m}) == pytest.approx(2500.0)
+    assert convert(2.5, "km", "m", {"km": km}, {}) == pytest.approx(2500.0)  # 'm' is a base unit
+    assert convert(20.0, "degC", "K", {"degC": celsius}, {"K": kelvin}) == pytest.approx(293.15)
+    assert convert(7.0, "m", "", {}, {}) == 7.0  # no unit declared by the FMU: SI taken as it is
+    with pytest.raises(InputError, match="unit 'km' cannot be converted to the FMU's unit '\\(none\\)'"):
+        convert(7.0, "km", "", {"km": km}, {})
+    with pytest.raises(InputError, match="unit 'K' cannot be converted to the FMU's unit 'm'"):
+        convert(7.0, "K", "m", {}, {})
+    with pytest.raises(InputError, match="unit 'ft' is not defined"):
+        convert(7.0, "ft", "m", {}, {})

@@ -46,10 +46,13 @@ def to_fmu_unit(value: float, unit: str, fmu_unit: str, ssp_units: dict, fmu_uni
 
     Equal names need no definition. Otherwise both must be defined (the SSP's unit in
     `ssp_units`, the FMU's in `fmu_units`, else in `ssp_units`; a unit absent from both with the
-    name of an SI base unit or '1' is that unit) with the same exponents."""
+    name of an SI base unit or '1' is that unit) with the same exponents. A variable without a
+    declared unit takes a value in a coherent SI unit (factor 1, offset 0) as it is."""
     if unit == fmu_unit:
         return value
     given = ssp_units.get(unit) or _plain(unit)
+    if not fmu_unit and given is not None and given[1:] == (1.0, 0.0):
+        return value  # a coherent SI unit for a variable that declares none: SI at the interface
     target = fmu_units.get(fmu_unit) or ssp_units.get(fmu_unit) or _plain(fmu_unit)
     if given is None:
         raise InputError(f"unit {unit!r} is not defined, and the FMU's unit is {fmu_unit or 'not declared'!r}",
