@@ -13,7 +13,12 @@ from aotv_cosim.documents import strict_json
 from aotv_cosim.errors import InputError
 from aotv_cosim.ssp.load import extract, read_ssp
 from aotv_cosim.system import check_archive
-from test_input_edges import SSD, nominal_ssp, one_line, rewritten  # noqa: F401 (fixture)
+from test_input_edges import SSD, export_nominal, one_line, rewritten
+
+
+@pytest.fixture(scope="module")
+def nominal_ssp(tmp_path_factory):
+    return export_nominal(tmp_path_factory)
 
 
 def test_duplicate_key_check_is_linear():

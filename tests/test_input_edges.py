@@ -42,9 +42,14 @@ def in_process(args, timeout=60):
     return done.returncode, done.stderr.strip().splitlines()
 
 
+def export_nominal(tmp_path_factory):
+    """The nominal seed-000 scenario exported as an .ssp archive in a fresh folder."""
+    return export_ssp(load_scenario(NOMINAL), tmp_path_factory.mktemp("ssp") / "nominal.ssp")
+
+
 @pytest.fixture(scope="module")
 def nominal_ssp(tmp_path_factory):
-    return export_ssp(load_scenario(NOMINAL), tmp_path_factory.mktemp("ssp") / "nominal.ssp")
+    return export_nominal(tmp_path_factory)
 
 
 def rewritten(archive, out, replace=None, add=None):

@@ -12,10 +12,15 @@ from aotv_cosim.scenario import load_scenario
 from aotv_cosim.system import load_system
 from conftest import write_json
 from test_faults import _faulty_scenario, _run
-from test_input_edges import SSD, nominal_ssp, one_line, rewritten, ssd_text  # noqa: F401 (fixture)
+from test_input_edges import SSD, export_nominal, one_line, rewritten, ssd_text
 
 VEHICLE_SSV = "resources/vehicle.ssv"
 KM = '<ssc:Unit name="km"><ssc:BaseUnit m="1" factor="1000" /></ssc:Unit>'
+
+
+@pytest.fixture(scope="module")
+def nominal_ssp(tmp_path_factory):
+    return export_nominal(tmp_path_factory)
 
 
 def _ssv_text(ssp):
