@@ -292,8 +292,8 @@ def build_fmus(out):
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
-    from aotv_cosim.montecarlo import run_campaign
     from aotv_cosim.campaign_checks import check_reachable, check_resumable
+    from aotv_cosim.montecarlo import run_campaign
     from aotv_cosim.scenario import parse_sets
 
     def body():
