@@ -275,3 +275,27 @@ def test_the_shipped_fmus_pass_the_member_checks():
 
     for name in ("Atmosphere", "PointMassVehicle"):
         read_fmu(fmu_build.ensure_fmu(name), file=WIRING, entry=name)
+
+
+def test_permission_and_read_only_errors_are_named(tmp_path, monkeypatch):
+    """What a non-root user meets (root reads and writes everywhere, so the tests above skip):
+    EACCES from stat and EROFS or EACCES from creating a file become one InputError each."""
+    import errno
+
+    from aotv_cosim import paths
+    from aotv_cosim.errors import InputError
+
+    def refuse(code):
+        def fail(*args, **kwargs):
+            raise OSError(code, os.strerror(code))
+        return fail
+
+    monkeypatch.setattr(paths.os, "stat", refuse(errno.EACCES))
+    with pytest.raises(InputError, match="cannot be read: permission denied"):
+        paths.regular_file(tmp_path / "s.json", what="scenario file")
+    monkeypatch.undo()
+    for code, cause in ((errno.EROFS, "read-only file system"), (errno.EACCES, "permission denied")):
+        monkeypatch.setattr(paths.tempfile, "mkstemp", refuse(code))
+        with pytest.raises(InputError, match=f"--out: cannot write an output folder here: {cause}"):
+            paths.writable_folder(tmp_path / "out")
+        monkeypatch.undo()
