@@ -6,13 +6,16 @@ one line too, unless --debug asks for the traceback.
 """
 
 import contextlib
+import os
 import signal
 import sys
 from pathlib import Path
 
 import click
 
-from aotv_cosim.engine.errors import AotvError, ValidationFailed
+from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
+from aotv_cosim.engine.errors import AotvError, InputError, ValidationFailed
+from aotv_cosim.engine.paths import writable_file, writable_folder
 
 DEFAULT_OUT = Path("results")
 
@@ -24,7 +27,7 @@ class _Context:
 def _fail(exc):
     lines = exc.problems if isinstance(exc, ValidationFailed) else [exc]
     for line in lines:
-        click.echo(f"error: {line}", err=True)
+        click.echo(f"error: {one_line(line)}", err=True)
     sys.exit(exc.exit_status)
 
 
@@ -39,7 +42,7 @@ def _guard(function):
     except Exception as exc:  # unforeseen: still one line, traceback only on request
         if _Context.debug:
             raise
-        click.echo(f"error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", err=True)
+        click.echo(f"error: {type(exc).__name__}: {one_line(exc)} (run with --debug for the traceback)", err=True)
         sys.exit(3)
 
 
@@ -82,7 +85,7 @@ def _exit_status(summary):
     return 0 if summary["status"] == "completed" else 1
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=OneLineGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--debug", is_flag=True, help="Show tracebacks.")
 @click.version_option(package_name="aotv-cosim")
 def main(debug):
@@ -159,8 +162,8 @@ def _run_one(scenario, out_dir, plots):
 
 
 @main.command()
-@click.argument("scenario", type=click.Path(dir_okay=False))
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>].")
+@click.argument("scenario", type=UserPath(dir_okay=False))
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>].")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
@@ -173,8 +176,8 @@ def run(scenario, out, sets, step, no_plots):
 
     def body():
         loaded = load_scenario(scenario, parse_sets(sets), step)
-        summary, out_dir = _run_one(loaded, Path(out) if out else DEFAULT_OUT / Path(scenario).stem,
-                                    not no_plots)
+        out_dir = writable_folder(Path(out) if out else DEFAULT_OUT / Path(scenario).stem)
+        summary, out_dir = _run_one(loaded, out_dir, not no_plots)
         _print_summary(summary, out_dir)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
@@ -187,21 +190,24 @@ def run(scenario, out, sets, step, no_plots):
 
 
 @main.command()
-@click.argument("paths", nargs=-1, type=click.Path(exists=True))
-@click.option("--out", type=click.Path(file_okay=False), help="Base output folder [results/check].")
+@click.argument("paths", nargs=-1, type=UserPath(exists=True))
+@click.option("--out", type=UserPath(file_okay=False), help="Base output folder [results/check].")
 def check(paths, out):
     """Run every scenario with expectations under PATHS [scenarios/] and compare.
 
     Every scenario found is loaded and validated before the first one runs."""
     from aotv_cosim.engine.scenario import load_scenario
 
-    files = []
-    for p in paths or ("scenarios",):
-        p = Path(p)
-        files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
-
     def body():
+        files = []
+        for p in paths or ("scenarios",):
+            p = Path(p)
+            if p.is_dir() and not os.access(p, os.R_OK | os.X_OK):
+                raise InputError("cannot list the folder: permission denied", file=p,
+                                 fix="give a folder you may read")
+            files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
         candidates = [s for s in map(load_scenario, files) if s.expectations]
+        writable_folder(Path(out or DEFAULT_OUT / "check"))
         failed = 0
         for scenario in candidates:
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
@@ -221,7 +227,7 @@ def check(paths, out):
 
 
 @main.command()
-@click.argument("files", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.argument("files", nargs=-1, required=True, type=UserPath(dir_okay=False))
 def validate(files):
     """Check scenario, wiring or comparison FILES without running them."""
     from aotv_cosim.studies.compare import load_comparison
@@ -243,12 +249,15 @@ def _kind(path):
     """The kind of document `path` is: named by its "$schema" (wiring, compare, scenario), else
     'wiring' if it has components or connections, else 'scenario'.
 
-    A file that cannot be read or parsed counts as a scenario: its loader reports the problem."""
+    A file that cannot be read or parsed, or is no regular file (a FIFO would block), counts as
+    a scenario: its loader reports the problem."""
     from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.engine.paths import MAX_DOCUMENT_BYTES, regular_file
 
     try:
+        regular_file(path, max_bytes=MAX_DOCUMENT_BYTES)
         doc = strict_json(Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
+    except (InputError, OSError, ValueError, RecursionError):
         return "scenario"
     if not isinstance(doc, dict):
         return "scenario"
@@ -259,7 +268,7 @@ def _kind(path):
 
 
 @main.command("build-fmus")
-@click.option("--out", type=click.Path(file_okay=False), help="Put the FMUs here instead of the cache.")
+@click.option("--out", type=UserPath(file_okay=False), help="Put the FMUs here instead of the cache.")
 def build_fmus(out):
     """Build every FMU of fmus_src (only those whose sources changed)."""
     from aotv_cosim.fmu import build as fmu_build
@@ -272,22 +281,28 @@ def build_fmus(out):
 
 
 @main.command()
-@click.argument("scenario", type=click.Path(dir_okay=False))
+@click.argument("scenario", type=UserPath(dir_okay=False))
 @click.option("--runs", type=click.IntRange(min=1), required=True, help="Number of runs.")
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
               help="Local worker processes.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>-mc].")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
+    from aotv_cosim.montecarlo.checks import check_reachable, check_resumable
     from aotv_cosim.montecarlo import run_campaign
     from aotv_cosim.engine.scenario import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
+        writable_folder(out_dir)
+        if resume:
+            check_resumable(out_dir)
+        if scheduler:
+            check_reachable(scheduler)
         summary = run_campaign(scenario, runs, out_dir, workers=workers, seed=seed, scheduler=scheduler,
                                resume=resume, sets=parse_sets(sets) or None)
         rate = summary["runs_per_s"]
@@ -299,8 +314,8 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
 
 
 @main.command("export-ssp")
-@click.argument("scenario", type=click.Path(dir_okay=False))
-@click.option("-o", "--out", "out", required=True, type=click.Path(dir_okay=False),
+@click.argument("scenario", type=UserPath(dir_okay=False))
+@click.option("-o", "--out", "out", required=True, type=UserPath(dir_okay=False),
               help="The .ssp archive to write.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
@@ -311,7 +326,7 @@ def export_ssp(scenario, out, sets, step):
 
     def body():
         loaded = load_scenario(scenario, parse_sets(sets), step)
-        path = write_ssp(loaded, out)
+        path = write_ssp(loaded, writable_file(out, "--out"))
         click.echo(f"{path}: {len(loaded.system.components)} components, "
                    f"{len(loaded.system.connections)} connections, "
                    f"{loaded.start:g}..{loaded.stop:g} s by {loaded.step:g} s")
@@ -320,8 +335,8 @@ def export_ssp(scenario, out, sets, step):
 
 
 @main.command()
-@click.argument("comparison", default="scenarios/aotv_compare.json", type=click.Path(dir_okay=False))
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<comparison>].")
+@click.argument("comparison", default="scenarios/aotv_compare.json", type=UserPath(dir_okay=False))
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<comparison>].")
 @click.option("--no-plots", is_flag=True, help="Skip the overlaid plots.")
 def compare(comparison, out, no_plots):
     """Fly every guidance law of COMPARISON [scenarios/aotv_compare.json] through the same
@@ -330,7 +345,7 @@ def compare(comparison, out, no_plots):
 
     def body():
         loaded = load_comparison(comparison)
-        out_dir = Path(out) if out else DEFAULT_OUT / Path(comparison).stem
+        out_dir = writable_folder(Path(out) if out else DEFAULT_OUT / Path(comparison).stem)
         table = run_comparison(loaded, out_dir, progress=lambda law: click.echo(f"flying {law}", err=True),
                                make_plots=not no_plots)
         click.echo(format_table(table))
@@ -345,7 +360,7 @@ def figures():
 
 
 @figures.command("seed001")
-@click.option("--out", type=click.Path(file_okay=False), default="results/seed001_figures", show_default=True)
+@click.option("--out", type=UserPath(file_okay=False), default="results/seed001_figures", show_default=True)
 def figures_seed001(out):
     """Seed-001 report figures 3.4-3.19: gamma, speed, costates, lambda, bank, altitude; guided against optimal."""
     from aotv_cosim.studies.plane_change_plots import make_all
@@ -354,8 +369,8 @@ def figures_seed001(out):
 
 
 @figures.command("seed002")
-@click.argument("run_dir", type=click.Path(exists=True, file_okay=False))
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [RUN_DIR].")
+@click.argument("run_dir", type=UserPath(exists=True, file_okay=False))
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [RUN_DIR].")
 def figures_seed002(run_dir, out):
     """Seed-002 paper figures 1-6 of a finished entry-tracking run in RUN_DIR (from `aotv-cosim run
     scenarios/entry_*.json`): ground track, errors against Mach, alpha and bank with their bands,
@@ -366,7 +381,7 @@ def figures_seed002(run_dir, out):
 
 
 @figures.command("seed003")
-@click.option("--out", type=click.Path(file_okay=False), default="results/seed003_report", show_default=True)
+@click.option("--out", type=UserPath(file_okay=False), default="results/seed003_report", show_default=True)
 def figures_seed003(out):
     """Seed-003 nominal glide, alpha per elevator law and the saturation study; prints the metrics table
     (runs the scenarios/shuttle_*.json systems, about a minute)."""

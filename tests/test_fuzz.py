@@ -130,3 +130,22 @@ def test_scenario_with_mutated_wiring(budget):
             pass
 
     _fuzz(mutations(WIRING_DOC), check, budget)
+
+
+paths = st.one_of(st.text(max_size=40), st.text(alphabet="ab./\\\0~:", max_size=40),
+                  st.integers(250, 5000).map(lambda n: "x" * n), st.sampled_from(
+                      ["/dev/zero", "/dev/null", "/", "..", "/proc/self/fd/0", "\0", "a\0.json", "x.fmu"]))
+
+
+@pytest.mark.parametrize("budget", BUDGETS)
+def test_random_paths(budget):
+    """Any string as the scenario's system or a component's FMU path (NUL bytes, over-long names,
+    devices, folders) is loaded or refused with the project's error, never another exception."""
+
+    def check(text):
+        wiring = dict(WIRING_DOC, components=dict(WIRING_DOC["components"],
+                                                  atmosphere={"fmu": text + ".fmu"}))
+        _loads_or_own_error(load_system, json.dumps(wiring))
+        _loads_or_own_error(load_scenario, json.dumps(dict(SCENARIO, system=text)))
+
+    _fuzz(paths, check, budget)

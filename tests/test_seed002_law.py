@@ -49,14 +49,50 @@ def test_reference_design_targets():
     assert table["energy"][0] > entry_reference.E_ENTRY + 100.0 * sx2.FT * sx2.V0  # covers +100 ft/s
 
 
+TABLE_ERROR = {"energy": 4.1e-5, "r": 3.6e-5, "theta": 1.24e-10, "phi": 3.1e-11, "gamma": 4.9e-10,
+               "chi": 6.0e-10, "alpha": 0.0, "sigma": 0.0, "h": 3.6e-5, "v": 1.23e-7, "mach": 1.94e-9,
+               "drag": 2.9e-8}
+"""Largest |table - the same table integrated at rtol 1e-12| per column (SI: m^2/s^2, m, rad, m/s,
+1, m/s^2), measured with numpy 2.4.6 / scipy 1.17.1: the checked-in table's own integration error
+(RK45 at rtol 1e-11; `energy` differs in its last row, the Mach 2.7 event). Floating-point
+differences between machines (another libm or BLAS) change the adaptive steps and so move the
+result by up to this much (the issue measured 2.4e-5 m in altitude, 3.4e-9 relative in drag,
+which follows the density exponentially): agreement closer than this is not a property of the
+table. `test_table_error_estimate` re-measures it."""
+
+
+def _table_tolerance(column):
+    """Accepted |difference| for a regenerated table: 4x its integration error (alpha and sigma,
+    which are the control schedules of the energy grid, to 1e-12 rad)."""
+    return max(4.0 * TABLE_ERROR[column], 1e-12)
+
+
 def test_table_is_reproduced_by_the_command(tmp_path):
-    """The checked-in table is what `python -m aotv_cosim.studies.entry_reference` writes today."""
+    """The checked-in table is what `python -m aotv_cosim.studies.entry_reference` writes today, to within
+    the table's integration error (`TABLE_ERROR`), not to the last bit of one machine's run."""
     from aotv_cosim.studies.entry_reference import generate
 
     generate(tmp_path / "t.csv")
     new, old = read_table(tmp_path / "t.csv"), read_table()
+    assert list(new) == list(old) and len(new["energy"]) == len(old["energy"])
     for column in old:
-        np.testing.assert_allclose(new[column], old[column], rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(new[column], old[column], rtol=0, atol=_table_tolerance(column),
+                                   err_msg=column)
+
+
+@pytest.mark.slow
+def test_table_error_estimate(tmp_path):
+    """`TABLE_ERROR` holds: the checked-in table against the same integration at rtol 1e-12 differs
+    by at most 1.5x the stated figure per column (the estimate is not understated)."""
+    from aotv_cosim.studies.entry_reference import SPACING
+    from aotv_cosim.guidance.entry_tracking_reference import write_table
+
+    energies, states, _ = entry_reference.integrate(SPACING, rtol=1e-12)
+    write_table(tmp_path / "fine.csv", energies, states, entry_reference.alpha_ref(energies),
+                entry_reference.sigma_ref(energies), sx2.R_EARTH)
+    fine, old = read_table(tmp_path / "fine.csv"), read_table()
+    for column in old:
+        assert np.abs(fine[column] - old[column]).max() <= 1.5 * TABLE_ERROR[column] + 1e-15, column
 
 
 @pytest.mark.parametrize("e_ft2", [1.2e8, 3e7, 9e6])

@@ -13,6 +13,7 @@ from pathlib import Path
 import jsonschema
 
 from aotv_cosim.engine.errors import InputError, raise_if_any
+from aotv_cosim.engine.paths import MAX_DOCUMENT_BYTES, regular_file
 
 SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
            "compare": "compare.schema.json"}
@@ -65,11 +66,15 @@ def _float_sized_int(text):
 
 
 def _no_duplicates(pairs):
-    keys = [k for k, _ in pairs]
-    duplicated = sorted({k for k in keys if keys.count(k) > 1})
-    if duplicated:
-        raise _Refused(f"duplicate key {duplicated[0]!r}", key=duplicated[0])
-    return dict(pairs)
+    """The object of `pairs`, refusing a repeated key (the first one repeated); linear time."""
+    result = dict(pairs)
+    if len(result) < len(pairs):
+        seen = set()
+        for key, _ in pairs:
+            if key in seen:
+                raise _Refused(f"duplicate key {key!r}", key=key)
+            seen.add(key)
+    return result
 
 
 def strict_json(text: str):
@@ -91,12 +96,9 @@ def _where(text, token):
 def load_document(path, kind: str) -> dict:
     """Parse `path` as strict JSON and validate it against the `kind` schema."""
     path = Path(path)
+    regular_file(path, what=f"{kind} file", max_bytes=MAX_DOCUMENT_BYTES)  # no FIFO, device, loop
     try:
         text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError("file not found", file=path, fix=f"give the path of an existing {kind} file")
-    except IsADirectoryError:
-        raise InputError("is a folder", file=path, fix=f"give the path of a {kind} file")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read: {exc}", file=path, fix=f"give a UTF-8 {kind} JSON file")
     try:

@@ -10,19 +10,16 @@ import collections
 import ctypes
 import hashlib
 import itertools
-import os
-import shutil
 import sys
-import tempfile
 import weakref
 from pathlib import Path
 
-from fmpy import extract
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
                        fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
 from fmpy import calloc, free
 
 from aotv_cosim.fmu import build as fmu_build
+from aotv_cosim.engine.archives import extract_to
 from aotv_cosim.engine.errors import SimulationError
 
 STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
@@ -47,13 +44,7 @@ def extracted(fmu_path: Path) -> Path:
     digest = _DIGESTS[key]
     target = fmu_build.cache_dir() / "extracted" / digest
     if not target.is_dir():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=".tmp-"))
-        extract(str(fmu_path), str(tmp))
-        try:
-            os.replace(tmp, target)
-        except OSError:  # another process extracted it first
-            shutil.rmtree(tmp, ignore_errors=True)
+        extract_to(fmu_path, target)  # its members were checked when the wiring was loaded
     return target
 
 

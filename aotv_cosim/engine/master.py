@@ -28,7 +28,9 @@ The loop keeps per-component value-reference and value arrays made once: outputs
 one shared ctypes buffer that numpy also sees, and inputs whose sources lie side by side in that
 buffer are passed as views of it (no copy per step). It calls the C entry points directly and
 records the bytes of the buffer per communication point. Non-finite values are searched for in
-whole chunks when they are flushed, not per step. A `pool` kept by the caller lets a sequence
+whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
+is summed (a non-finite sum is checked element-wise) and kept if it holds a non-finite value, so
+the first one is found where it was produced. A `pool` kept by the caller lets a sequence
 of runs (Monte Carlo) reset the FMUs instead of instantiating them again.
 """
 
@@ -384,7 +386,10 @@ class Master:
                         return
                 if conditions:
                     previous[:] = array
-                if done % every == 0 or last:
+                if done % every == 0 or last or not (every == 1 or math.isfinite(sum(values))
+                                                     or np.isfinite(array).all()):
+                    # a step left out by record_every is kept if it holds the first non-finite
+                    # value, so the chunk check blames the component that produced it, then
                     keep_time(t_new)
                     keep_row(bytes(values))
                     if len(rows.rows) >= CHUNK:

@@ -6,6 +6,7 @@ from pathlib import Path
 
 from aotv_cosim.engine.documents import load_document
 from aotv_cosim.engine.errors import InputError, raise_if_any
+from aotv_cosim.engine.paths import regular_file, resolved
 from aotv_cosim.engine.system import System, load_system
 
 
@@ -104,18 +105,19 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
 
     An .ssp archive is a scenario too: its system over its default experiment.
     """
-    path = Path(path).resolve()
+    path = resolved(path, what="scenario file")
     if path.suffix == ".ssp":
         from aotv_cosim.ssp.load import scenario_document
 
         doc = scenario_document(path, step_given=step is not None)
     else:
         doc = load_document(path, "scenario")
-    system_path = (path.parent / doc["system"]).resolve()
-    if not system_path.is_file():
-        problem = "is a folder" if system_path.is_dir() else "not found"
-        raise InputError(f"wiring file {problem}: {system_path}", file=path, entry="system",
-                         fix="give the wiring file's path relative to the scenario")
+    system_path = resolved(path.parent / doc["system"], file=path, entry="system", what="wiring file")
+    try:
+        regular_file(system_path, what="wiring file", file=path, entry="system")
+    except InputError as exc:
+        raise InputError(f"wiring file {exc.cause.removeprefix('file ')}", file=path, entry="system",
+                         fix="give the wiring file's path relative to the scenario") from None
     overrides = dict(doc.get("parameters", {}))
     system = load_system(system_path, overrides, overrides_file=path) if not sets else \
         load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
@@ -126,7 +128,7 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
         algorithm=doc.get("algorithm", "gauss-seidel"),
         stop_conditions=[StopCondition(c["signal"], float(c["crosses"]), c.get("direction", "either"))
                          for c in doc.get("stop_conditions", [])],
-        record=list(doc.get("record", system.outputs())),
+        record=list(doc.get("record", _real_outputs(system))),
         record_every=int(doc.get("record_every", 1)),
         expectations=[Expectation(e["signal"], e["at"], float(e["value"]), e["source"],
                                   e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
@@ -140,6 +142,15 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
     _check_times(scenario)
     _check_signals(scenario, doc)
     return scenario
+
+
+UNSAFE_IN_COLUMNS = (",", '"', "\n", "\r")
+"""Characters a recorded signal's name may not hold: timeseries.csv's header is the names."""
+
+
+def _real_outputs(system) -> list:
+    """The default record: every Real output (the master reads and records Real values only)."""
+    return [o for o in system.outputs() if system.variable(o).type == "Real"]
 
 
 def _step_options(doc) -> dict:
@@ -174,6 +185,16 @@ def _check_signals(s: Scenario, doc):
 
     def check(signal, entry):
         if signal in outputs:
+            kind = s.system.variable(signal).type
+            if kind != "Real":
+                problems.append(InputError(f"{signal} is {kind}: the master reads and records Real outputs only",
+                                           file=s.path, entry=entry, fix="use a Real output"))
+            elif any(c in signal for c in UNSAFE_IN_COLUMNS):
+                problems.append(InputError(f"{signal!r} holds a comma, quote or line break, which a "
+                                           "timeseries.csv column name cannot", file=s.path,
+                                           entry=entry if "record" in doc or not entry.startswith("record")
+                                           else f"{entry} (default: every Real output)",
+                                           fix="give \"record\" without it (rename the FMU variable to record it)"))
             return
         comp = signal.split(".", 1)[0]
         known = [o for o in sorted(outputs) if o.startswith(comp + ".")]

@@ -18,8 +18,10 @@ from pathlib import Path, PurePosixPath
 from fmpy import read_model_description
 
 from aotv_cosim.fmu import build as fmu_build
+from aotv_cosim.engine.archives import check_fmu_members, check_sizes
 from aotv_cosim.engine.documents import check_document, load_document
 from aotv_cosim.engine.errors import AotvError, InputError, raise_if_any
+from aotv_cosim.engine.paths import regular_file, resolved
 
 
 @dataclass(frozen=True)
@@ -281,7 +283,7 @@ def _grouped(kind, pairs, order):
 def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
     """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
     if ref.endswith(".fmu"):
-        return (base / ref).resolve()
+        return resolved(base / ref, file=file, entry=entry, what=".fmu file")
     names = fmu_build.available_fmus()
     if ref not in names:
         close = difflib.get_close_matches(ref, names, n=3)
@@ -293,12 +295,14 @@ def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
 
 
 def check_archive(path: Path, *, file=None, entry=None) -> None:
-    """Refuse an FMU or SSP archive whose member names are absolute or climb out with '..'.
+    """Refuse an FMU or SSP archive whose member names are absolute or climb out with '..', or
+    whose sizes exceed the limits of `archives.check_sizes` (checked before any extraction).
 
     The error names `file` and `entry` (the document that refers to the archive) when given,
     else the archive itself. A file that is not a zip archive raises zipfile.BadZipFile.
     """
     with zipfile.ZipFile(path) as archive:
+        check_sizes(archive, path, file=file, entry=entry)
         for name in archive.namelist():
             pure = PurePosixPath(name.replace("\\", "/"))
             drive = bool(pure.parts) and ":" in pure.parts[0]
@@ -310,9 +314,11 @@ def check_archive(path: Path, *, file=None, entry=None) -> None:
 
 def read_fmu(path: Path, *, file, entry) -> FmuInfo:
     """Read an FMU's modelDescription into an FmuInfo; InputError if missing or corrupt."""
-    if not path.is_file():
-        raise InputError(f"FMU file not found: {path}", file=file, entry=entry,
-                         fix="correct the path (relative to the wiring file) or build the FMU")
+    try:
+        regular_file(path, what=".fmu file", file=file, entry=entry)
+    except InputError as exc:
+        raise InputError(f"FMU {exc.cause}", file=file, entry=entry,
+                         fix="correct the path (relative to the wiring file) or build the FMU") from None
     try:
         check_archive(path, file=file, entry=entry)
         md = read_model_description(str(path))
@@ -324,6 +330,7 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
     if md.fmiVersion != "2.0" or md.coSimulation is None:
         raise InputError(f"{path.name} is not an FMI 2.0 co-simulation FMU", file=file, entry=entry,
                          fix="export the FMU for FMI 2.0 co-simulation")
+    check_fmu_members(path, md.coSimulation.modelIdentifier, file=file, entry=entry)
     variables = {v.name: Variable(v.name, v.valueReference, v.type, v.causality, v.variability,
                                   v.unit or (v.declaredType.unit if v.declaredType else None) or "",
                                   v.start, v.description or "")
@@ -388,7 +395,7 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
     overrides_file names where the overrides came from, for error messages. An .ssp archive
     is read into the same document (aotv_cosim.ssp.load) and checked the same way.
     """
-    path = Path(path).resolve()
+    path = resolved(path, what="wiring file")
     if path.suffix == ".ssp":
         from aotv_cosim.ssp.load import read_ssp
 
@@ -484,6 +491,9 @@ def _check_connection(conn, components, file, entry):
     if out.type != inp.type:
         problems.append(InputError(f"type mismatch: {out.type} -> {inp.type}", file=file, entry=entry,
                                    fix="connect variables of the same type"))
+    elif out.type != "Real":
+        problems.append(InputError(f"{out.type} connections are not supported: the master exchanges Real values",
+                                   file=file, entry=entry, fix="connect Real variables (give the input a value)"))
     elif out.unit and inp.unit and out.unit != inp.unit:
         problems.append(InputError(f"unit mismatch: {out.unit} -> {inp.unit}", file=file, entry=entry,
                                    fix="connect variables of the same unit (SI at every interface)"))

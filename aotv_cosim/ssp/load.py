@@ -12,16 +12,17 @@ the same checks as a wiring file (`system.load_system`).
 """
 
 import hashlib
-import os
 import shutil
-import tempfile
 import zipfile
 from pathlib import Path, PurePosixPath
 from xml.etree import ElementTree
 
+from aotv_cosim.engine.archives import extract_to
 from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.paths import regular_file
+from aotv_cosim.ssp import units
 from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
-                                schema_problems)
+                                schema_problems, xml_problem)
 
 SSD = "SystemStructure.ssd"
 FMU_TYPE = "application/x-fmu-sharedlibrary"
@@ -33,8 +34,7 @@ def extract(path: Path) -> Path:
     from aotv_cosim.engine.system import check_archive
 
     path = Path(path)
-    if not path.is_file():
-        raise InputError("file not found", file=path, fix="give the path of an existing .ssp file")
+    regular_file(path, what=".ssp file")
     if not zipfile.is_zipfile(path):
         raise InputError("not a zip archive", file=path, fix="give an SSP archive (.ssp)")
     check_archive(path)
@@ -42,15 +42,7 @@ def extract(path: Path) -> Path:
     folder = cache_dir() / "ssp" / digest
     if folder.is_dir():
         return folder
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f"{digest}.", dir=folder.parent))
-    with zipfile.ZipFile(path) as archive:
-        archive.extractall(staging)
-    try:
-        os.replace(staging, folder)
-    except OSError:  # another process extracted the same archive meanwhile
-        shutil.rmtree(staging, ignore_errors=True)
-    return folder
+    return extract_to(path, folder)
 
 
 def _member(folder: Path, reference: str, *, file, entry, suffix) -> Path:
@@ -67,6 +59,10 @@ def _parse(xml_path: Path, schema_file: str, *, file, entry):
         raise InputError(f"{xml_path.name} missing from the archive", file=file, entry=entry,
                          fix="give an SSP archive with the files its SSD references")
     xml = xml_path.read_bytes()
+    problem = xml_problem(xml)
+    if problem:
+        raise InputError(f"{xml_path.name} {problem}", file=file, entry=entry,
+                         fix="give a well-formed XML file without a DOCTYPE")
     problems = schema_problems(xml, schema_file)
     if problems:
         raise InputError(f"{xml_path.name} violates the SSP 1.0 schema: {problems[0]}", file=file,
@@ -75,9 +71,19 @@ def _parse(xml_path: Path, schema_file: str, *, file, entry):
 
 
 def read_ssp(path):
-    """(wiring document, base folder of its FMU paths, SSD root element) of the archive `path`."""
+    """(wiring document, base folder of its FMU paths, SSD root element) of the archive `path`.
+
+    An archive refused here has its extracted folder removed from the cache."""
     path = Path(path)
     folder = extract(path)
+    try:
+        return _read(path, folder)
+    except InputError:
+        shutil.rmtree(folder, ignore_errors=True)
+        raise
+
+
+def _read(path, folder):
     root = _parse(folder / SSD, SSD_SCHEMA, file=path, entry=SSD)
     system = root.find(q("ssd:System"))
     entry = f"System '{system.get('name')}'"
@@ -86,11 +92,15 @@ def read_ssp(path):
     if system.find(q("ssd:SignalDictionaries")) is not None:
         _unsupported("signal dictionaries", path, entry)
     components = {}
+    ssd_units = units.definitions(root.find(q("ssd:Units")))
     for element in system.findall(q("ssd:Elements") + "/*"):
         name = element.get("name")
         if element.tag != q("ssd:Component"):
             _unsupported(f"element {local(element.tag)}", path, f"{entry}.{name}")
-        components[name] = _component(element, folder, path, f"{entry}.{name}")
+        if name in components:
+            raise InputError(f"two components are named {name!r}", file=path, entry=f"{entry}.{name}",
+                             fix="give each component of the SSD its own name")
+        components[name] = _component(element, folder, path, f"{entry}.{name}", ssd_units)
     connections = [_connection(c, path, f"{entry}.Connections[{k}]")
                    for k, c in enumerate(system.findall(q("ssd:Connections") + "/" + q("ssd:Connection")))]
     return {"components": components, "connections": connections}, folder, root
@@ -101,19 +111,34 @@ def _unsupported(what, file, entry):
                      fix="flatten the system to FMU components joined by plain connections")
 
 
-def _component(element, folder, file, entry):
+def _component(element, folder, file, entry, ssd_units):
     if element.get("type", FMU_TYPE) != FMU_TYPE:
         raise InputError(f"component type {element.get('type')!r} is not an FMU", file=file, entry=entry,
                          fix=f"use components of type {FMU_TYPE}")
     fmu = _member(folder, element.get("source"), file=file, entry=f"{entry} source", suffix=".fmu")
+    fmu_units = _fmu_units(fmu)
     parameters = {}
     bindings = element.findall(q("ssd:ParameterBindings") + "/" + q("ssd:ParameterBinding"))
     for k, binding in enumerate(bindings):
-        parameters.update(_binding(binding, folder, file, f"{entry}.ParameterBindings[{k}]"))
+        parameters.update(_binding(binding, folder, file, f"{entry}.ParameterBindings[{k}]",
+                                   ssd_units, fmu_units))
     return {"fmu": fmu.relative_to(folder).as_posix(), "parameters": parameters}
 
 
-def _binding(binding, folder, file, entry):
+def _fmu_units(fmu: Path):
+    """({variable: unit name}, {unit name: definition}) of the FMU `fmu`; empty if unreadable
+    (the wiring checks then report the FMU itself)."""
+    from fmpy import read_model_description
+
+    try:
+        md = read_model_description(str(fmu))
+    except Exception:  # fmpy raises many kinds; system.read_fmu reports the file
+        return {}, {}
+    return ({v.name: v.unit or (v.declaredType.unit if v.declaredType else None) or ""
+             for v in md.modelVariables}, units.fmu_definitions(md))
+
+
+def _binding(binding, folder, file, entry, ssd_units, fmu_units):
     if binding.find(q("ssd:ParameterMapping")) is not None:
         _unsupported("parameter mappings", file, entry)
     if binding.get("sourceBase", "SSD") != "SSD":
@@ -127,12 +152,22 @@ def _binding(binding, folder, file, entry):
         if parameter_set is None:
             return {}
     prefix = binding.get("prefix", "")
+    ssp_units = {**ssd_units, **units.definitions(parameter_set.find(q("ssv:Units")))}
+    variable_units, defined = fmu_units
     values = {}
     for parameter in parameter_set.findall(q("ssv:Parameters") + "/" + q("ssv:Parameter")):
         name = parameter.get("name")
+        where = f"{entry} parameter {name}"
         if prefix and name.startswith(prefix):
             name = name[len(prefix):]
-        values[name] = _value(parameter[0], file, f"{entry} parameter {parameter.get('name')}")
+        if name in values:
+            raise InputError(f"parameter {name!r} is given twice", file=file, entry=where,
+                             fix="give each parameter once in a parameter set")
+        values[name] = _value(parameter[0], file, where)
+        unit = parameter[0].get("unit")
+        if unit is not None and local(parameter[0].tag) == "Real" and name in variable_units:
+            values[name] = units.to_fmu_unit(values[name], unit, variable_units[name], ssp_units, defined,
+                                             file=file, entry=where)
     return values
 
 
@@ -180,13 +215,38 @@ def scenario_document(path, step_given=False) -> dict:
     for annotation in experiment.findall(q("ssd:Annotations") + "/" + q("ssc:Annotation")):
         if annotation.get("type") == AOTV_ANNOTATION:
             ours = annotation.find(q("aotv:Experiment"))
-            doc["step"] = float(ours.get("stepSize"))
+            entry = f"{SSD} annotation {AOTV_ANNOTATION}"
+            if ours is None:
+                raise InputError("no aotv:Experiment element", file=path, entry=entry,
+                                 fix='give <aotv:Experiment stepSize="..."/> in the annotation, or remove it')
+            doc["step"] = _step_size(ours, "stepSize", path, entry)
             doc["algorithm"] = ours.get("algorithm", "gauss-seidel")
+            if doc["algorithm"] not in ALGORITHMS:
+                raise InputError(f"unknown algorithm {doc['algorithm']!r}", file=path, entry=f"{entry} algorithm",
+                                 fix=f"use one of {', '.join(ALGORITHMS)}")
         elif annotation.get("type") == OSP_ANNOTATION and "step" not in doc:
             fixed = annotation.find(q("osp:Algorithm") + "/" + q("osp:FixedStepAlgorithm"))
-            if fixed is not None:
-                doc["step"] = float(fixed.get("baseStepSize"))
+            if fixed is None:
+                raise InputError("no osp:Algorithm/osp:FixedStepAlgorithm element", file=path,
+                                 entry=f"{SSD} annotation {OSP_ANNOTATION}",
+                                 fix='give <osp:Algorithm><osp:FixedStepAlgorithm baseStepSize="..."/>')
+            doc["step"] = _step_size(fixed, "baseStepSize", path, f"{SSD} annotation {OSP_ANNOTATION}")
     if "step" not in doc and not step_given:
         raise InputError("no communication step in the archive", file=path, entry=SSD,
                          fix="give --step (s), or an OSP FixedStepAlgorithm annotation in the SSD")
     return doc
+
+
+ALGORITHMS = ("gauss-seidel", "jacobi")
+"""The master algorithms an aotv-cosim experiment annotation may name (scenario schema's enum)."""
+
+
+def _step_size(node, attribute, file, entry) -> float:
+    """The finite number in the step attribute of an annotation element; InputError otherwise."""
+    text = node.get(attribute)
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        problem = f"no {attribute}" if text is None else f"{attribute} {text!r} is not a number"
+        raise InputError(problem, file=file, entry=f"{entry} {attribute}",
+                         fix=f'give {attribute}="0.1" (the communication step in s)') from None

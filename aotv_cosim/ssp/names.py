@@ -41,6 +41,22 @@ def schema_dir() -> Path:
     return Path(fmpy.ssp.__file__).parent / "schema"
 
 
+def xml_problem(xml: bytes):
+    """Why `xml` cannot be read as a plain XML document, else None: not well-formed, or with a
+    document type declaration. SSP files need no DTD, and refusing one means no entity, external
+    (a local file, a URL) or expanding (billion laughs), is ever resolved."""
+    from lxml import etree  # an FMPy dependency
+
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False)
+    try:
+        tree = etree.fromstring(xml, parser)
+    except etree.XMLSyntaxError as exc:
+        return f"not well-formed XML: {exc}"
+    if tree.getroottree().docinfo.doctype:
+        return "has a document type declaration (DTDs and entities are not allowed)"
+    return None
+
+
 def schema_problems(xml: bytes, schema_file: str) -> list:
     """Messages of every violation of the SSP schema `schema_file` by the document `xml`."""
     from lxml import etree  # an FMPy dependency

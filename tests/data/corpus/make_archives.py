@@ -2,23 +2,32 @@
 
 Each archive is wrong in one way the wiring loader must report: not a zip, no modelDescription,
 broken XML, model exchange only, a member with an absolute path or one climbing out with '..',
-and a well-formed FMU whose Integer output cannot feed a Real input.
+no binary, a binary not named after the modelIdentifier, a member inflating 4 MiB of zeros, a
+member failing its CRC check, a well-formed FMU whose Integer output cannot feed a Real input,
+and one with Integer ports (which the master does not exchange).
 """
 
 import zipfile
 from pathlib import Path
 
+from fmpy import platform, sharedLibraryExtension
+
 HERE = Path(__file__).resolve().parent / "fmus"
 DATE = (1980, 1, 1, 0, 0, 0)
+BINARY = f"binaries/{platform}/Crafted{sharedLibraryExtension}"
+"""Where the FMU loader looks for the binary of modelIdentifier Crafted on this platform."""
 
 
-def description(kind="<CoSimulation modelIdentifier=\"Crafted\"/>", causality="output", type_="Integer"):
+def description(kind="<CoSimulation modelIdentifier=\"Crafted\"/>", causality="output", type_="Integer",
+                extra_input=False):
     start = '<Integer start="0"/>' if type_ == "Integer" else '<Real start="0"/>'
+    second = ('\n    <ScalarVariable name="n" valueReference="1" causality="input" variability="discrete">'
+              '<Integer start="0"/></ScalarVariable>') if extra_input else ""
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <fmiModelDescription fmiVersion="2.0" modelName="Crafted" guid="{{00000000-0000-0000-0000-000000000001}}">
   {kind}
   <ModelVariables>
-    <ScalarVariable name="count" valueReference="0" causality="{causality}" variability="discrete" initial="exact">{start}</ScalarVariable>
+    <ScalarVariable name="count" valueReference="0" causality="{causality}" variability="discrete" initial="exact">{start}</ScalarVariable>{second}
   </ModelVariables>
   <ModelStructure><Outputs><Unknown index="1"/></Outputs></ModelStructure>
 </fmiModelDescription>
@@ -28,7 +37,9 @@ def description(kind="<CoSimulation modelIdentifier=\"Crafted\"/>", causality="o
 def write_zip(name, members):
     with zipfile.ZipFile(HERE / name, "w", zipfile.ZIP_DEFLATED) as archive:
         for member, text in members.items():
-            archive.writestr(zipfile.ZipInfo(member, date_time=DATE), text)
+            info = zipfile.ZipInfo(member, date_time=DATE)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            archive.writestr(info, text)
 
 
 def main():
@@ -38,9 +49,21 @@ def main():
     write_zip("bad_xml.fmu", {"modelDescription.xml": "<fmiModelDescription fmiVersion=\"2.0\"\n"})
     write_zip("model_exchange.fmu", {"modelDescription.xml": description(
         "<ModelExchange modelIdentifier=\"Crafted\"/>")})
-    write_zip("integer_port.fmu", {"modelDescription.xml": description()})
+    write_zip("integer_port.fmu", {"modelDescription.xml": description(), BINARY: "not a library\n"})
     write_zip("absolute_member.fmu", {"modelDescription.xml": description(), "/tmp/aotv_evil.txt": "x\n"})
     write_zip("dotdot_member.fmu", {"modelDescription.xml": description(), "resources/../../evil.txt": "x\n"})
+    write_zip("no_binary.fmu", {"modelDescription.xml": description()})
+    write_zip("wrong_identifier.fmu", {"modelDescription.xml": description(),
+                                       BINARY.replace("Crafted", "Other"): "not a library\n"})
+    write_zip("inflating.fmu", {"modelDescription.xml": description(), BINARY: "not a library\n",
+                                "resources/padding.bin": bytes(4 * 2**20)})
+    write_zip("integer_ports.fmu", {"modelDescription.xml": description(extra_input=True),
+                                    BINARY: "not a library\n"})
+    write_zip("corrupt_member.fmu", {"modelDescription.xml": description(), BINARY: "not a library\n" * 50})
+    data = bytearray((HERE / "corrupt_member.fmu").read_bytes())
+    at = data.index(BINARY.encode()) + len(BINARY) + 4  # inside the binary's compressed data
+    data[at] ^= 0xFF
+    (HERE / "corrupt_member.fmu").write_bytes(bytes(data))
 
 
 if __name__ == "__main__":

@@ -1,0 +1,168 @@
+"""Inputs that used to run and give wrong results (issue 13, item 8): SSV units, non-Real
+ports, CSV-breaking names, duplicate SSP components and members, an unknown SSP algorithm, and
+a non-finite value blamed on the wrong FMU when recording is decimated."""
+
+import json
+import zipfile
+
+import pytest
+
+from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.engine.system import load_system
+from conftest import write_json
+from test_faults import _faulty_scenario, _run
+from test_input_edges import SSD, export_nominal, one_line, rewritten, ssd_text
+
+VEHICLE_SSV = "resources/vehicle.ssv"
+KM = '<ssc:Unit name="km"><ssc:BaseUnit m="1" factor="1000" /></ssc:Unit>'
+
+
+@pytest.fixture(scope="module")
+def nominal_ssp(tmp_path_factory):
+    return export_nominal(tmp_path_factory)
+
+
+def _ssv_text(ssp):
+    with zipfile.ZipFile(ssp) as archive:
+        return archive.read(VEHICLE_SSV).decode()
+
+
+def _h0_in_km(ssp, out, define=True):
+    text = _ssv_text(ssp).replace('<ssv:Real value="90000.0" unit="m" />', '<ssv:Real value="80" unit="km" />')
+    if define:
+        text = text.replace("<ssv:Units>", "<ssv:Units>" + KM)
+    return rewritten(ssp, out, {VEHICLE_SSV: text})
+
+
+def test_ssv_values_in_a_defined_unit_are_converted(nominal_ssp, tmp_path):
+    """h0 = 80 km (km defined as 1000 m in the SSV's Units) sets the FMU's h0 (m) to 80000."""
+    system = load_system(_h0_in_km(nominal_ssp, tmp_path / "km.ssp"))
+    assert system.components["vehicle"].parameters["h0"] == pytest.approx(80000.0)
+
+
+def test_ssv_values_in_an_undefined_or_other_unit_are_refused(nominal_ssp, tmp_path):
+    one_line(["validate", _h0_in_km(nominal_ssp, tmp_path / "km.ssp", define=False)],
+             "parameter h0", "unit 'km' is not defined")
+    text = _ssv_text(nominal_ssp).replace('<ssv:Real value="8200.0" unit="m/s" />', '<ssv:Real value="8.2" unit="km" />')
+    other = rewritten(nominal_ssp, tmp_path / "other.ssp", {VEHICLE_SSV: text.replace("<ssv:Units>", "<ssv:Units>" + KM)})
+    one_line(["validate", other], "parameter v0", "cannot be converted to the FMU's unit 'm/s'")
+
+
+def test_duplicate_ssp_components_and_members_are_refused(nominal_ssp, tmp_path):
+    text = ssd_text(nominal_ssp)
+    twice = text.replace('<ssd:Component name="atmosphere"', '<ssd:Component name="vehicle"', 1)
+    one_line(["validate", rewritten(nominal_ssp, tmp_path / "c.ssp", {SSD: twice})], "two components are named 'vehicle'")
+    with pytest.warns(UserWarning, match="Duplicate name"):
+        doubled = rewritten(nominal_ssp, tmp_path / "m.ssp", add={SSD: text})
+    one_line(["validate", doubled], "appears twice")
+    ssv = _ssv_text(nominal_ssp)
+    repeated = ssv.replace('<ssv:Parameter name="v0">', '<ssv:Parameter name="h0"><ssv:Real value="1.0" unit="m" />'
+                           '</ssv:Parameter><ssv:Parameter name="v0">')
+    one_line(["validate", rewritten(nominal_ssp, tmp_path / "p.ssp", {VEHICLE_SSV: repeated})], "'h0' is given twice")
+
+
+def _crafted_fmu(path, variables):
+    """An FMU archive (modelDescription and a placeholder binary) with the given ScalarVariables:
+    [(name, type, causality)]; it loads and validates but is never instantiated here."""
+    from fmpy import platform, sharedLibraryExtension
+
+    rows, outputs = [], []
+    for k, (name, kind, causality) in enumerate(variables):
+        start = f'<{kind} start="0"/>' if causality != "output" else f"<{kind}/>"
+        variability = "continuous" if kind == "Real" else "discrete"
+        extra = ' initial="exact"' if causality == "parameter" else ""
+        variability = "fixed" if causality == "parameter" else variability
+        rows.append(f'<ScalarVariable name="{name}" valueReference="{k}" causality="{causality}" '
+                    f'variability="{variability}"{extra}>{start}</ScalarVariable>')
+        if causality == "output":
+            outputs.append(f'<Unknown index="{k + 1}" dependencies=""/>')
+    xml = f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="2.0" modelName="Crafted" guid="{{00000000-0000-0000-0000-000000000002}}">
+  <CoSimulation modelIdentifier="Crafted"/>
+  <ModelVariables>{''.join(rows)}</ModelVariables>
+  <ModelStructure><Outputs>{''.join(outputs)}</Outputs></ModelStructure>
+</fmiModelDescription>
+"""
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("modelDescription.xml", xml)
+        archive.writestr(f"binaries/{platform}/Crafted{sharedLibraryExtension}", "placeholder")
+    return path
+
+
+def test_integer_and_boolean_ports_are_refused_at_validation(tmp_path):
+    """The master exchanges and records Real values: an Integer connection, record or stop
+    condition is refused when loaded, and the default record holds the Real outputs only."""
+    _crafted_fmu(tmp_path / "c.fmu", [("count", "Integer", "output"), ("flag", "Boolean", "output"),
+                                      ("n_in", "Integer", "input"), ("y", "Real", "output"),
+                                      ("mode", "Integer", "parameter")])
+    wiring = {"components": {"a": {"fmu": "c.fmu", "parameters": {"n_in": 1, "mode": 2}},
+                             "b": {"fmu": "c.fmu", "parameters": {"mode": 3}}},
+              "connections": ["a.count -> b.n_in"]}
+    write_json(tmp_path / "w.json", wiring)
+    one_line(["validate", tmp_path / "w.json"], "a.count -> b.n_in", "Integer connections are not supported")
+    wiring["connections"] = []
+    wiring["components"]["b"]["parameters"]["n_in"] = 0
+    write_json(tmp_path / "w.json", wiring)
+    scenario = {"system": "w.json", "stop": 1, "step": 0.5}
+    write_json(tmp_path / "s.json", scenario)
+    loaded = load_scenario(tmp_path / "s.json")
+    assert loaded.record == ["a.y", "b.y"]
+    assert loaded.system.components["a"].parameters == {"n_in": 1, "mode": 2}
+    for key, value, entry in [("record", ["a.flag"], "record[0]"),
+                              ("stop_conditions", [{"signal": "b.count", "crosses": 1}], "stop_conditions[0].signal")]:
+        write_json(tmp_path / "s.json", {**scenario, key: value})
+        one_line(["validate", tmp_path / "s.json"], entry, "Real outputs only")
+
+
+def test_a_comma_in_a_recorded_name_is_refused(tmp_path):
+    _crafted_fmu(tmp_path / "c.fmu", [("a,b", "Real", "output"), ("y", "Real", "output")])
+    write_json(tmp_path / "w.json", {"components": {"c": {"fmu": "c.fmu"}}, "connections": []})
+    write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1, "step": 0.5})
+    one_line(["validate", tmp_path / "s.json"], "record[0] (default: every Real output)", "comma")
+    write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1, "step": 0.5, "record": ["c.y"]})
+    assert load_scenario(tmp_path / "s.json").record == ["c.y"]
+
+
+def test_a_nan_is_blamed_on_its_producer_when_recording_is_decimated(tmp_path, wiring_doc):
+    """NaN from the fault FMU at t = 2.1 s (a step record_every = 4 leaves out) reaches the
+    actuator and the vehicle before the next recorded step (2.4 s): the failure still names the
+    fault FMU at 2.1 s, and that row is the last of the series."""
+    scenario = _faulty_scenario(tmp_path, wiring_doc, 3)
+    doc = json.loads(scenario.read_text())
+    write_json(scenario, {**doc, "record_every": 4})
+    out = tmp_path / "out"
+    result = _run("run", scenario, "--out", out, "--no-plots")
+    assert result.exit_code == 1, result.output
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["error_detail"]["component"] == "fault"
+    assert summary["error_detail"]["time"] == pytest.approx(2.1)
+    times = [float(r.split(",")[0]) for r in (out / "timeseries.csv").read_text().splitlines()[1:]]
+    assert times[-3:] == pytest.approx([1.6, 2.0, 2.1])
+
+
+def test_an_invalid_ssp_algorithm_is_refused(nominal_ssp, tmp_path):
+    text = ssd_text(nominal_ssp).replace('algorithm="gauss-seidel"', 'algorithm="rk4"')
+    with pytest.raises(InputError, match="unknown algorithm 'rk4'"):
+        load_scenario(rewritten(nominal_ssp, tmp_path / "rk4.ssp", {SSD: text}))
+    assert load_scenario(nominal_ssp).algorithm == "gauss-seidel"
+
+
+
+def test_unit_conversion_rules():
+    """to_fmu_unit: factor and offset through the base units, plain SI names, refusals."""
+    from aotv_cosim.ssp.units import to_fmu_unit
+
+    m, km = ((0, 1, 0, 0, 0, 0, 0, 0), 1.0, 0.0), ((0, 1, 0, 0, 0, 0, 0, 0), 1000.0, 0.0)
+    kelvin, celsius = ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 0.0), ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 273.15)
+    convert = lambda v, u, f, ssp, fmu: to_fmu_unit(v, u, f, ssp, fmu, file="x.ssp", entry="p")
+    assert convert(2.5, "km", "m", {"km": km}, {"m": m}) == pytest.approx(2500.0)
+    assert convert(2.5, "km", "m", {"km": km}, {}) == pytest.approx(2500.0)  # 'm' is a base unit
+    assert convert(20.0, "degC", "K", {"degC": celsius}, {"K": kelvin}) == pytest.approx(293.15)
+    assert convert(7.0, "m", "", {}, {}) == 7.0  # no unit declared by the FMU: SI taken as it is
+    with pytest.raises(InputError, match="unit 'km' cannot be converted to the FMU's unit '\\(none\\)'"):
+        convert(7.0, "km", "", {"km": km}, {})
+    with pytest.raises(InputError, match="unit 'K' cannot be converted to the FMU's unit 'm'"):
+        convert(7.0, "K", "m", {}, {})
+    with pytest.raises(InputError, match="unit 'ft' is not defined"):
+        convert(7.0, "ft", "m", {}, {})
