@@ -8,7 +8,8 @@ import zipfile
 
 import pytest
 
-from aotv_cosim.engine import archives, fmu_build
+from aotv_cosim.engine import archives
+from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.engine.documents import strict_json
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.ssp.load import extract, read_ssp
