@@ -40,6 +40,7 @@ class NpcGuidance(AotvSlave):
         p("t_switch", d.t_switch, "s", "End of phase 1 (linear profile); constant command after")
         p("u_final", d.u_final, "m/s2", "Level of the phase-1 profile at t_switch")
         p("du_secant", d.du_secant, "m/s2", "First secant step")
+        p("du_max", d.du_max, "m/s2", "Longest corrector step before the root is bracketed")
         p("u_guess", 0.77316, "m/s2", "First-cycle guess of u_c (a of eq. 4.28 at Table 4.1)")
         p("density_gain", 0.3, "1", "Gain of the density-scale filter (0: keep the prior)")
         p("density_scale_prior", 1.0, "1", "Density scale assumed before the first measurement")
@@ -83,7 +84,7 @@ class NpcGuidance(AotvSlave):
     def _settings(self):
         return npc.NpcSettings(self.apogee_target, self.h_exit, self.tolerance, int(self.max_iter),
                                self.predictor_step, self.horizon, self.h_floor, self.u_min, self.u_max,
-                               self.t_switch, self.u_final, self.du_secant)
+                               self.t_switch, self.u_final, self.du_secant, self.du_max)
 
     def _model(self):
         return npc.PredictorModel(self.rho_ref, self.h_ref, self.scale_height, self.CD0 / self.mass_per_area,

@@ -27,9 +27,10 @@ altitude (default: the apogee of the Table 4.1 exit state, 1191.15 km, the LEO o
 
 Corrector (Lu 2014 Sec. IV, Lu et al. 2015 Sec. III.B: secant on the one-parameter miss):
     u_c^(i+1) = u_c^(i) - z^(i) (u_c^(i) - u_c^(i-1)) / (z^(i) - z^(i-1)),
-safeguarded: u_c stays in [u_min, u_max]; once two iterates bracket the root (z of opposite sign)
-the next one stays inside the bracket (bisection if the secant leaves it or meets an unbound or
-non-exiting prediction, whose miss is not a usable number). The first cycle starts from a guess;
+safeguarded (`correct`): steps at most du_max long until two iterates bracket the root, then
+false position with the Illinois modification inside the bracket (bisection when an end is an
+unbound or non-exiting prediction, whose miss is not a usable number); u_c stays in
+[u_min, u_max]. The first cycle starts from a guess;
 later cycles start from the previous cycle's solution (warm start).
 
 Density scale estimate (FNPAG Sec. III.C uses the sensed drag against the model's, low-pass
@@ -107,6 +108,7 @@ class NpcSettings:
     t_switch: float = 300.0
     u_final: float = 0.0
     du_secant: float = 0.02
+    du_max: float = 0.25
 
 
 @dataclass(frozen=True)
@@ -206,15 +208,28 @@ def _clip(u, s):
     return min(max(u, s.u_min), s.u_max)
 
 
+def _secant(u, f, prev, s: NpcSettings) -> float:
+    """Secant step from (u, f) through the last usable iterate prev, at most du_max long; a first
+    step of du_secant without prev or when the two points do not show the apogee growing with u."""
+    if prev is not None and u != prev[0]:
+        slope = (f - prev[1]) / (u - prev[0])
+        if slope > 0.0:
+            step = -f / slope
+            return u + max(-s.du_max, min(s.du_max, step))
+    return u - math.copysign(s.du_secant, f)
+
+
 def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorModel,
             s: NpcSettings) -> Correction:
     """Secant corrector of one guidance cycle: u_c with |apogee miss| <= tolerance, from u_guess.
 
-    Safeguards (see the module docstring): bounds [u_min, u_max]; bisection inside a known
-    bracket; an unusable prediction (unbound orbit or no exit) moves the next iterate halfway back
-    toward the last usable one, or by du_secant in the direction that cures it (less lift for an
-    unbound orbit, more lift when the vehicle does not exit). Returns the last iterate if the
-    iteration limit is reached (converged False); the apogee grows with u_c.
+    The apogee grows with u_c. Until two iterates bracket the root, secant steps (eq. in the
+    module docstring) at most du_max long; a prediction that does not exit counts as too low and
+    an unbound one as too high, and moves the next iterate by du_max the way that cures it. Once
+    bracketed: false position between the bracket ends with the Illinois modification (the
+    retained end's miss is halved when the same end is retained twice), bisection if an end's
+    miss is not a number. u_c stays in [u_min, u_max]. At the iteration limit the iterate with the
+    smallest usable miss is returned, converged False.
     """
     u = _clip(u_guess, s)
     pred = predict(t_k, state, u, scale, model, s)
@@ -222,40 +237,43 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
     if pred.exited and pred.time == t_k:  # out of the atmosphere: nothing left to correct
         return Correction(u, pred, iterations, pred.usable() and abs(pred.miss) <= s.tolerance)
     best = (u, pred)
-    low = high = None  # (u, miss) with miss < 0 and miss > 0
-    prev = None  # last usable (u, miss)
+    low = high = None  # [u, miss] with miss < 0 (or no exit: -inf) and miss > 0 (or unbound: inf)
+    prev, side = None, 0
     while True:
-        too_high = pred.miss > 0.0  # unbound: miss = inf
-        if pred.usable() and abs(pred.miss) < abs(best[1].miss):
+        f = pred.miss if pred.exited else -math.inf
+        usable = pred.usable()
+        if usable and (not best[1].usable() or abs(f) < abs(best[1].miss)):
             best = (u, pred)
-        if pred.usable() and abs(pred.miss) <= s.tolerance:
+        if usable and abs(f) <= s.tolerance:
             return Correction(u, pred, iterations, True)
         if iterations >= s.max_iter:
             break
-        if too_high:
-            high = (u, pred.miss) if high is None or u < high[0] else high
+        if f > 0.0:
+            if side > 0 and low is not None:
+                low[1] *= 0.5
+            high, side = [u, f], 1
         else:
-            low = (u, pred.miss) if low is None or u > low[0] else low
-        candidate = None
-        if pred.usable() and prev is not None and pred.miss != prev[1]:
-            candidate = u - pred.miss * (u - prev[0]) / (pred.miss - prev[1])
-        elif pred.usable():
-            candidate = u - math.copysign(s.du_secant, pred.miss)
-        elif prev is not None:
-            candidate = 0.5 * (u + prev[0])
+            if side < 0 and high is not None:
+                high[1] *= 0.5
+            low, side = [u, f], -1
+        if low is not None and high is not None:
+            if math.isfinite(low[1]) and math.isfinite(high[1]):
+                candidate = low[0] - low[1] * (high[0] - low[0]) / (high[1] - low[1])
+            else:
+                candidate = 0.5 * (low[0] + high[0])
+        elif usable:
+            candidate = _secant(u, f, prev, s)
         else:
-            candidate = u - s.du_secant if too_high else u + s.du_secant
-        if low is not None and high is not None and not low[0] < candidate < high[0]:
-            candidate = 0.5 * (low[0] + high[0])
+            candidate = u + (s.du_max if f < 0.0 else -s.du_max)
         candidate = _clip(candidate, s)
-        if pred.usable():
-            prev = (u, pred.miss)
+        if usable:
+            prev = (u, f)
         if candidate == u:
-            break  # pinned at a bound
+            break  # pinned at a bound, or the bracket has closed on u
         u = candidate
         pred = predict(t_k, state, u, scale, model, s)
         iterations += 1
-    u, pred = best if best[1].usable() else (u, pred)
+    u, pred = best
     return Correction(u, pred, iterations, False)
 
 
