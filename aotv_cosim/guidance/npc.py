@@ -28,8 +28,8 @@ altitude (default: the apogee of the Table 4.1 exit state, 1191.15 km, the LEO o
 Corrector (Lu 2014 Sec. IV, Lu et al. 2015 Sec. III.B: secant on the one-parameter miss):
     u_c^(i+1) = u_c^(i) - z^(i) (u_c^(i) - u_c^(i-1)) / (z^(i) - z^(i-1)),
 safeguarded (`correct`): steps at most du_max long until two iterates bracket the root, then
-false position with the Illinois modification inside the bracket (bisection when an end is an
-unbound or non-exiting prediction, whose miss is not a usable number); u_c stays in
+false position with the Illinois modification inside the bracket (secant or bisection when an
+end is an unbound or non-exiting prediction, whose miss is not a usable number); u_c stays in
 [u_min, u_max]. The first cycle starts from a guess;
 later cycles start from the previous cycle's solution (warm start).
 
@@ -227,8 +227,8 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
     module docstring) at most du_max long; a prediction that does not exit counts as too low and
     an unbound one as too high, and moves the next iterate by du_max the way that cures it. Once
     bracketed: false position between the bracket ends with the Illinois modification (the
-    retained end's miss is halved when the same end is retained twice), bisection if an end's
-    miss is not a number. u_c stays in [u_min, u_max]. At the iteration limit the iterate with the
+    retained end's miss is halved when the same end is retained twice); if an end's miss is not
+    a number, the secant step when it stays inside the bracket, else bisection. u_c stays in [u_min, u_max]. At the iteration limit the iterate with the
     smallest usable miss is returned, converged False.
     """
     u = _clip(u_guess, s)
@@ -260,7 +260,9 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
             if math.isfinite(low[1]) and math.isfinite(high[1]):
                 candidate = low[0] - low[1] * (high[0] - low[0]) / (high[1] - low[1])
             else:
-                candidate = 0.5 * (low[0] + high[0])
+                candidate = _secant(u, f, prev, s) if usable else math.nan
+                if not low[0] < candidate < high[0]:  # also when nan
+                    candidate = 0.5 * (low[0] + high[0])
         elif usable:
             candidate = _secant(u, f, prev, s)
         else:
