@@ -25,7 +25,7 @@ RK4 step): apogee and perigee of the Keplerian orbit (`physics.orbit`, seed-000 
 Sec. 7). Miss function of the corrector: z(u_c) = h_a(u_c) - h_a*, with h_a* the target apogee
 altitude (default: the apogee of the Table 4.1 exit state, 1191.15 km, the LEO of the transfer).
 
-Corrector (Lu 2014 Sec. IV, Lu et al. 2015 Sec. III.B: secant on the one-parameter miss):
+Corrector (Lu 2014 and Lu et al. 2015: secant on the one-parameter miss):
     u_c^(i+1) = u_c^(i) - z^(i) (u_c^(i) - u_c^(i-1)) / (z^(i) - z^(i-1)),
 safeguarded (`correct`): steps at most du_max long until two iterates bracket the root, then
 false position with the Illinois modification inside the bracket (secant or bisection when an
@@ -33,7 +33,7 @@ end is an unbound or non-exiting prediction, whose miss is not a usable number);
 [u_min, u_max]. The first cycle starts from a guess;
 later cycles start from the previous cycle's solution (warm start).
 
-Density scale estimate (FNPAG Sec. III.C uses the sensed drag against the model's, low-pass
+Density scale estimate (FNPAG compares the sensed drag against the model's, low-pass
 filtered). Here the drag is read off the navigated state, with no accelerometer input: between
 two cycles, v_dot = -D/m - g sin(gamma) (eq. 2.7) gives the mean drag
     D_meas = -(v_1 - v_0)/dt - g (sin gamma_0 + sin gamma_1)/2,

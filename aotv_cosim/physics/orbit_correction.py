@@ -2,7 +2,7 @@
 
 The seed-000 thesis stops at exit and circularises at apogee (Ch. 9; extraction Sec. 7); when the
 apogee misses the target the standard aerocapture cost (Lu et al., "Optimal aerocapture
-guidance", JGCD 38(4), 2015, Sec. II: first burn at apoapsis to raise the periapsis, second burn
+guidance", JGCD 38(4), 2015: first burn at apoapsis to raise the periapsis, second burn
 to correct the apoapsis) is a two-impulse correction. For a circular target of radius r_t and an
 exit orbit of apsis radii (r_p, r_a), with the vis-viva speed v(r; r1, r2)^2 = mu (2/r - 2/(r1 + r2)):
     dv1 = |v(r_a; r_a, r_t) - v(r_a; r_p, r_a)|   at the apogee r_a: other apsis moved to r_t,
