@@ -14,7 +14,9 @@ class NpcGuidance(AotvSlave):
     """Every cycle_period s: predict to exit from the measured state, correct u_c by secant.
 
     `aotv_cosim.guidance.npc` holds the algorithm (equations and references). Between cycles the
-    command follows the profile solved at the last cycle, u(t) = `npc.lift_profile`. A cycle's
+    command follows the profile solved at the last cycle: u(t) is its mean over
+    [t, t + command_hold] (`npc.profile_mean`), so that the vehicle, which holds u over the
+    communication step, receives the profile's integral the predictor assumed. A cycle's
     result depends on the inputs h, v, gamma at the cycle time (direct feedthrough to the
     outputs) and on the memory committed by the previous steps (density scale, warm start); it is
     committed when the FMU steps past the cycle time. The predictor's model parameters must match
@@ -42,6 +44,8 @@ class NpcGuidance(AotvSlave):
         p("du_secant", d.du_secant, "m/s2", "First secant step")
         p("du_max", d.du_max, "m/s2", "Longest corrector step before the root is bracketed")
         p("u_guess", 0.77316, "m/s2", "First-cycle guess of u_c (a of eq. 4.28 at Table 4.1)")
+        p("command_hold", 0.1, "s", "Communication step over which the master holds u: u is the profile's "
+          "mean over it (0: the profile's value now)")
         p("density_gain", 0.3, "1", "Gain of the density-scale filter (0: keep the prior)")
         p("density_scale_prior", 1.0, "1", "Density scale assumed before the first measurement")
         p("rho_ref", m.rho_ref, "kg/m3", "Predictor density at h_ref (eq. 2.5)")
@@ -114,8 +118,10 @@ class NpcGuidance(AotvSlave):
         return self._pending[1]
 
     def current_command(self):
-        memory = self._cycle()[0]
-        return npc.lift_profile(self._elapsed(), memory.t_k, memory.u_c, self._settings())
+        memory, t = self._cycle()[0], self._elapsed()
+        if self.command_hold > 0.0:
+            return npc.profile_mean(t, t + self.command_hold, memory.t_k, memory.u_c, self._settings())
+        return npc.lift_profile(t, memory.t_k, memory.u_c, self._settings())
 
     def enter_initialization_mode(self):
         self.time = self.start_time

@@ -42,14 +42,25 @@ def test_lift_profile_phases():
     assert npc.lift_profile(350.0, 310.0, 0.5, s) == 0.5  # phase 2: constant after the switch
 
 
-def _vehicle_scheme_exit(u_c, dt, scale=1.0):
+def test_profile_mean_is_the_exact_mean_across_the_switch():
+    s = dataclasses.replace(SETTINGS, t_switch=300.0, u_final=0.1)
+    assert npc.profile_mean(100.0, 102.0, 100.0, 0.5, s) == pytest.approx(npc.lift_profile(101.0, 100.0, 0.5, s))
+    # [299, 301]: the ramp from 0.102 to 0.1 over 1 s, then 0.1 for 1 s
+    assert npc.profile_mean(299.0, 301.0, 100.0, 0.5, s) == pytest.approx((0.101 + 0.1) / 2)
+    assert npc.profile_mean(310.0, 310.1, 310.0, 0.5, s) == 0.5
+
+
+def _vehicle_scheme_exit(u_c, dt, scale=1.0, mean=False):
     """Exit apogee of the profile flown the way the vehicle FMU flies it: point_mass.integrate
-    with the density and the command held over steps of dt (zero-order hold)."""
+    with the density and the command held over steps of dt (zero-order hold); mean: the command
+    is the profile's mean over each step (the FMU's command_hold), else its value at the step's
+    start."""
     x = [MODEL.r_earth + ENTRY[0], 0.0, 0.0, ENTRY[1], ENTRY[2], 0.0]
     t = 0.0
     while t < 600.0:
         rho = scale * exponential_density(x[0] - MODEL.r_earth, MODEL.rho_ref, 0.0, MODEL.scale_height)
-        args = (rho, npc.lift_profile(t, 0.0, u_c, SETTINGS), 0.0, MODEL.cd_s_m, 0.0,
+        u = npc.profile_mean(t, t + dt, 0.0, u_c, SETTINGS) if mean else npc.lift_profile(t, 0.0, u_c, SETTINGS)
+        args = (rho, u, 0.0, MODEL.cd_s_m, 0.0,
                 MODEL.gravity_model, MODEL.g0, MODEL.mu, point_mass.HEADING_FULL)
         new = point_mass.integrate(x, dt, dt, args)
         if new[0] >= MODEL.r_earth + SETTINGS.h_exit > x[0] and new[4] > 0.0:
@@ -62,11 +73,14 @@ def _vehicle_scheme_exit(u_c, dt, scale=1.0):
 
 def test_predictor_integrates_the_vehicle_equations():
     """The 2 s RK4 predictor and the vehicle's scheme at a 1 ms hold give the same exit apogee to
-    1 m (measured 0.9 m); at the co-simulation's 0.1 s hold the vehicle exits 66 m higher (the
-    hold of a decreasing command), which the closed loop corrects."""
+    1.5 m (measured 0.9 m). At the co-simulation's 0.1 s hold the vehicle exits 65 m higher when
+    it holds the profile's value at each step's start (a decreasing command), 4 m with the
+    profile's mean over the step (the FMU's command_hold; the rest is the density hold)."""
     predicted = npc.predict(0.0, ENTRY, 0.77, 1.0, MODEL, SETTINGS)
     assert predicted.exited and predicted.time == pytest.approx(300.5, abs=0.1)
     assert abs(predicted.apogee - _vehicle_scheme_exit(0.77, 1e-3)) < 1.5
+    assert _vehicle_scheme_exit(0.77, 0.1) - predicted.apogee == pytest.approx(65.0, abs=2.0)
+    assert abs(_vehicle_scheme_exit(0.77, 0.1, mean=True) - predicted.apogee) < 5.0
     fine = npc.predict(0.0, ENTRY, 0.77, 1.0, MODEL, dataclasses.replace(SETTINGS, step=0.25))
     assert abs(predicted.apogee - fine.apogee) < 2.0  # measured 1.6 m
 
@@ -151,8 +165,8 @@ def _series(summary_dir):
 
 
 def test_fmu_flies_the_cycle_it_reported_at_the_cycle_time(tmp_path):
-    """The u_c read at a cycle time stays in force until the next cycle, and u follows the
-    profile solved then: a Gauss-Seidel master sets the inputs to the next state before do_step,
+    """The u_c read at a cycle time stays in force until the next cycle, and u is the mean of the
+    profile solved then over the 0.1 s step (command_hold): a Gauss-Seidel master sets the inputs to the next state before do_step,
     and the cycle must not be recomputed from those."""
     scenario = load_scenario(SCENARIOS / "aotv_npc_density1_2.json")
     scenario.stop, scenario.stop_conditions = 8.0, []
@@ -167,8 +181,8 @@ def test_fmu_flies_the_cycle_it_reported_at_the_cycle_time(tmp_path):
             row = by_time[round(t_k + 0.1 * k, 6)]
             assert row["guidance.u_c"] == cycle["guidance.u_c"]
             assert row["guidance.density_scale"] == cycle["guidance.density_scale"]
-            assert row["guidance.u"] == pytest.approx(
-                npc.lift_profile(row["time"], t_k, cycle["guidance.u_c"], SETTINGS), abs=1e-12)
+            assert row["guidance.u"] == pytest.approx(npc.profile_mean(
+                row["time"], row["time"] + 0.1, t_k, cycle["guidance.u_c"], SETTINGS), abs=1e-12)
     assert by_time[2.0]["guidance.u_c"] != by_time[0.0]["guidance.u_c"]
 
 
@@ -203,3 +217,20 @@ def test_npc_meets_the_apogee_where_the_entry_latched_laws_miss(case, bound, tmp
     miss = {law: r["apogee_alt_km"] * 1e3 - npc.TARGET_APOGEE_000 for law, r in table.items()}
     assert abs(miss["npc"]) < bound
     assert abs(miss["time_linear"]) > 20e3 and abs(miss["predictive"]) > 20e3
+
+
+def test_campaign_runs_on_reset_fmus_repeat_and_classify():
+    """A Monte Carlo worker resets the FMUs between runs: run 2 (x1.2 after an x0.8 run) repeats
+    run 0 exactly (cycle CPU aside), and the rows classify as captures."""
+    from aotv_cosim.montecarlo.outcome import CaptureCriteria, classify, record_from_row
+    from aotv_cosim.montecarlo.worker import Runner
+
+    runner = Runner(SCENARIOS / "aotv_npc_nominal.json")
+    rows = [runner.run(k, {"atmosphere.density_factor": f}) for k, f in enumerate((1.2, 0.8, 1.2))]
+    differing = {k for k in rows[0] if rows[0][k] != rows[2][k] and "cycle_cpu" not in k}
+    assert differing == {"run"}
+    criteria = CaptureCriteria.seed000()
+    outcomes = [classify(record_from_row(row, criteria), criteria) for row in rows]
+    assert [o.outcome for o in outcomes] == ["captured"] * 3
+    assert all(abs(o.apogee_error) < 110.0 for o in outcomes)
+    assert outcomes[0].int_abs_u > outcomes[1].int_abs_u  # denser air: more lift to hold the apogee

@@ -154,6 +154,18 @@ def lift_profile(t: float, t_k: float, u_c: float, s: NpcSettings) -> float:
     return u_c + (s.u_final - u_c) * (t - t_k) / (s.t_switch - t_k)
 
 
+def profile_mean(t0: float, t1: float, t_k: float, u_c: float, s: NpcSettings) -> float:
+    """Mean of `lift_profile` over [t0, t1] (s, elapsed; t1 > t0), m/s^2: the constant command
+    that gives the vehicle, which holds its input over a communication step, the profile's
+    integral over that step. Exact for the piecewise-linear profile (split at t_switch)."""
+    def integral(a, b):  # each piece is linear: trapezoid rule is exact
+        return 0.5 * (b - a) * (lift_profile(a, t_k, u_c, s) + lift_profile(b, t_k, u_c, s))
+
+    if t0 < s.t_switch < t1 and t_k < s.t_switch:
+        return (integral(t0, s.t_switch) + integral(s.t_switch, t1)) / (t1 - t0)
+    return integral(t0, t1) / (t1 - t0)
+
+
 def _derivatives(t, x, t_k, u_c, scale, model, s):
     """dx/dt of the vehicle FMU's equations (point_mass.derivatives) with the density and the lift
     evaluated at this stage's altitude and time."""
