@@ -35,6 +35,9 @@ def test_nominal_exit_is_captured_with_the_circularisation_as_its_only_correctio
     assert out.dv_total == pytest.approx(out.dv_circ, abs=1e-6)
     assert (out.peak_heat_rate, out.peak_load_factor, out.int_abs_u, out.int_u2) == (4.56e5, 0.079, 116.0, 59.6)
     assert math.isnan(out.heat_load) and math.isnan(out.saturation_time)
+    row = out.as_dict()
+    assert row["outcome.outcome"] == "captured" and row["outcome.dv_total"] == out.dv_total
+    assert len(row) == 13 and all(k.startswith("outcome.") for k in row)
 
 
 def test_fast_exit_skips_out_above_the_band():

@@ -21,7 +21,7 @@ With u_f = 0 and t_s = t_f = 300 s, phase 1 is the family of the approximate tim
 of the costate lambda_r(t_f), re-solved every cycle from the measured state.
 
 Predicted quantities at the exit crossing h = h_exit (climbing; linear interpolation inside the
-RK4 step): apogee and perigee of the Keplerian orbit (`physics.orbit`, seed-000 extraction
+RK4 step): apogee of the Keplerian orbit (`physics.orbit`, seed-000 extraction
 Sec. 7). Miss function of the corrector: z(u_c) = h_a(u_c) - h_a*, with h_a* the target apogee
 altitude (default: the apogee of the Table 4.1 exit state, 1191.15 km, the LEO of the transfer).
 
@@ -114,9 +114,9 @@ class NpcSettings:
 @dataclass(frozen=True)
 class Prediction:
     """One predicted trajectory: exited (crossed h_exit climbing), time of the crossing or of the
-    end of the prediction (elapsed s), the state there (h m, v m/s, gamma rad), the apogee and
-    perigee altitudes of its orbit (m; apogee inf when unbound) and the miss apogee - target (m;
-    inf when unbound). A prediction that does not exit ends at h_floor or at the horizon."""
+    end of the prediction (elapsed s), the state there (h m, v m/s, gamma rad), the apogee
+    altitude of its orbit (m; inf when unbound) and the miss apogee - target (m; inf when
+    unbound). A prediction that does not exit ends at h_floor or at the horizon."""
 
     exited: bool
     time: float
@@ -124,7 +124,6 @@ class Prediction:
     v: float
     gamma: float
     apogee: float
-    perigee: float
     miss: float
 
     def usable(self) -> bool:
@@ -186,9 +185,9 @@ def _rk4(t, x, dt, t_k, u_c, scale, model, s):
 
 def _prediction(exited, t, h, v, gamma, model, s):
     if 0.5 * v * v >= model.mu / (model.r_earth + h):
-        return Prediction(exited, t, h, v, gamma, math.inf, math.nan, math.inf)
-    perigee, apogee = orbit.apsis_altitudes(h, v, gamma, model.mu, model.r_earth)
-    return Prediction(exited, t, h, v, gamma, apogee, perigee, apogee - s.apogee_target)
+        return Prediction(exited, t, h, v, gamma, math.inf, math.inf)
+    apogee = orbit.apsis_altitudes(h, v, gamma, model.mu, model.r_earth)[1]
+    return Prediction(exited, t, h, v, gamma, apogee, apogee - s.apogee_target)
 
 
 def predict(t_k: float, state, u_c: float, scale: float, model: PredictorModel,
