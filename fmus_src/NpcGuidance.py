@@ -1,0 +1,139 @@
+"""NpcGuidance FMU: numerical predictor-corrector lift guidance for the seed-000 pass (FNPAG-like)."""
+
+import time as clock
+
+from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.guidance import npc
+from aotv_cosim.physics import constants, point_mass
+from aotv_cosim.physics.planar import EXIT_000
+
+MEASURED = ("h", "v", "gamma")
+
+
+class NpcGuidance(AotvSlave):
+    """Every cycle_period s: predict to exit from the measured state, correct u_c by secant.
+
+    `aotv_cosim.guidance.npc` holds the algorithm (equations and references). Between cycles the
+    command follows the profile solved at the last cycle: u(t) is its mean over
+    [t, t + command_hold] (`npc.profile_mean`), so that the vehicle, which holds u over the
+    communication step, receives the profile's integral the predictor assumed. A cycle's
+    result depends on the inputs h, v, gamma at the cycle time (direct feedthrough to the
+    outputs) and on the memory committed by the previous steps (density scale, warm start); it is
+    committed when the FMU steps past the cycle time. The predictor's model parameters must match
+    the vehicle and Atmosphere FMUs of the system (the density scale is estimated, not given).
+    """
+
+    description = "Numerical predictor-corrector lift guidance to a target apogee (FNPAG-like, seed 000)"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d, m = npc.NpcSettings(), npc.PredictorModel()
+        p = self.parameter
+        p("cycle_period", 2.0, "s", "Guidance cycle period")
+        p("tolerance", d.tolerance, "m", "Accepted |predicted apogee - target|")
+        self.integer_parameter("max_iter", d.max_iter, "Predictions per cycle (iteration limit)")
+        p("apogee_target", d.apogee_target, "m", "Target apogee altitude (Table 4.1 exit orbit: LEO)")
+        p("h_exit", EXIT_000[0], "m", "Atmospheric interface altitude of the exit")
+        p("predictor_step", d.step, "s", "RK4 step of the predictor")
+        p("horizon", d.horizon, "s", "Longest prediction")
+        p("h_floor", d.h_floor, "m", "A prediction below this altitude does not exit")
+        p("u_min", d.u_min, "m/s2", "Lower bound of the corrected command")
+        p("u_max", d.u_max, "m/s2", "Upper bound of the corrected command")
+        p("t_switch", d.t_switch, "s", "End of phase 1 (linear profile); constant command after")
+        p("u_final", d.u_final, "m/s2", "Level of the phase-1 profile at t_switch")
+        p("du_secant", d.du_secant, "m/s2", "First secant step")
+        p("du_max", d.du_max, "m/s2", "Longest corrector step before the root is bracketed")
+        p("u_guess", 0.77316, "m/s2", "First-cycle guess of u_c (a of eq. 4.28 at Table 4.1)")
+        p("command_hold", 0.1, "s", "Communication step over which the master holds u: u is the profile's "
+          "mean over it (0: the profile's value now)")
+        p("density_gain", 0.3, "1", "Gain of the density-scale filter (0: keep the prior)")
+        p("density_scale_prior", 1.0, "1", "Density scale assumed before the first measurement")
+        p("rho_ref", m.rho_ref, "kg/m3", "Predictor density at h_ref (eq. 2.5)")
+        p("h_ref", m.h_ref, "m", "Predictor reference altitude")
+        p("scale_height", m.scale_height, "m", "Predictor scale height H")
+        p("CD0", constants.CD0_000, "1", "Predictor parasite drag coefficient")
+        p("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Predictor mass over reference area")
+        p("R_e", m.r_earth, "m", "Planet radius")
+        self.integer_parameter("gravity_model", point_mass.GRAVITY_CONSTANT,
+                               "0: constant g0 (seed 000); 1: inverse square mu/r^2")
+        p("g0", m.g0, "m/s2", "Constant gravity")
+        p("mu", m.mu, "m3/s2", "Gravitational parameter (gravity 1 and the apogee)")
+        self.input("h", 90e3, "m", "Measured altitude")
+        self.input("v", 8200.0, "m/s", "Measured speed")
+        self.input("gamma", -0.02, "rad", "Measured flight-path angle")
+        out = self.output
+        out("u", "m/s2", "Lift acceleration command", self.current_command, depends_on=MEASURED)
+        out("u_c", "m/s2", "Corrected profile parameter of the last cycle", lambda: self._cycle()[0].u_c,
+            depends_on=MEASURED)
+        out("apogee_pred", "m", "Predicted exit apogee altitude of the last cycle (1.8e308 if unbound)",
+            lambda: min(self._cycle()[1].prediction.apogee, 1.8e308), depends_on=MEASURED)
+        out("t_exit_pred", "s", "Predicted exit time (elapsed) of the last cycle",
+            lambda: self._cycle()[1].prediction.time, depends_on=MEASURED)
+        out("iterations", "1", "Predictions made in the last cycle", lambda: float(self._cycle()[1].iterations),
+            depends_on=MEASURED)
+        out("converged", "1", "1 if the last cycle met the tolerance, else 0",
+            lambda: 1.0 if self._cycle()[1].converged else 0.0, depends_on=MEASURED)
+        out("density_scale", "1", "Estimated density scale k_rho", lambda: self._cycle()[0].scale,
+            depends_on=MEASURED)
+        out("cycle_cpu", "s", "CPU time of the last cycle (process time)", lambda: self._cycle()[2],
+            depends_on=MEASURED)
+        self.time = 0.0
+        self._reset()
+
+    def _reset(self):
+        self._memory = None  # committed NpcMemory (None: before the first cycle)
+        self._last = None    # (memory, Correction, cpu s) of the last committed cycle
+        self._pending = None  # (key, (memory, Correction, cpu s)) computed for the current inputs
+
+    def _settings(self):
+        return npc.NpcSettings(self.apogee_target, self.h_exit, self.tolerance, int(self.max_iter),
+                               self.predictor_step, self.horizon, self.h_floor, self.u_min, self.u_max,
+                               self.t_switch, self.u_final, self.du_secant, self.du_max)
+
+    def _model(self):
+        return npc.PredictorModel(self.rho_ref, self.h_ref, self.scale_height, self.CD0 / self.mass_per_area,
+                                  self.R_e, int(self.gravity_model), self.g0, self.mu)
+
+    def _elapsed(self):
+        return self.time - self.start_time
+
+    def _due(self):
+        """A cycle runs now: first call, or a cycle period has passed since the last one."""
+        if self._memory is None:
+            return True
+        return self._elapsed() >= self._memory.t_k + self.cycle_period * (1.0 - 1e-9)
+
+    def _cycle(self):
+        """(memory, Correction, cpu s) in force now: a cycle for the current inputs if one is due,
+        else the last committed one."""
+        if not self._due():
+            return self._last
+        key = (self.time, self.h, self.v, self.gamma)
+        if self._pending is None or self._pending[0] != key:
+            memory = self._memory or npc.NpcMemory(scale=self.density_scale_prior, u_c=self.u_guess)
+            start = clock.process_time()
+            result = npc.guidance_cycle(memory, self._elapsed(), key[1:], self._model(), self._settings(),
+                                        self.density_gain)
+            self._pending = (key, (*result, clock.process_time() - start))
+        return self._pending[1]
+
+    def current_command(self):
+        memory, t = self._cycle()[0], self._elapsed()
+        if self.command_hold > 0.0:
+            return npc.profile_mean(t, t + self.command_hold, memory.t_k, memory.u_c, self._settings())
+        return npc.lift_profile(t, memory.t_k, memory.u_c, self._settings())
+
+    def enter_initialization_mode(self):
+        self.time = self.start_time
+        self._reset()
+
+    def do_step(self, current_time, step_size):
+        if self._due():
+            # Commit the cycle read at this time. A Gauss-Seidel master has already set the inputs
+            # to the vehicle's state at current_time + step_size; the cycle belongs to the state
+            # read at current_time, so it is recomputed only if no output was read then.
+            pending = self._pending
+            self._last = pending[1] if pending is not None and pending[0][0] == self.time else self._cycle()
+            self._memory = self._last[0]
+        self.time = current_time + step_size
+        return True
