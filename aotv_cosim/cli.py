@@ -1,4 +1,5 @@
-"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp, compare.
+"""The `aotv-cosim` command: run, check, validate, describe, build-fmus, export-ssp, montecarlo,
+compare, figures.
 
 Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
 exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
@@ -107,22 +108,35 @@ def _progress_bar(scenario):
     return bar, update
 
 
+def _finish_bar(bar, summary, start):
+    """Leave the bar at 100 % of the simulated span when a stop condition ended the run, and say
+    on it why a run stopped early (failure, interruption, stop condition)."""
+    if summary["status"] == "completed" and summary["end_time"] is not None:
+        bar.total = bar.n = round(summary["end_time"] - start, 6)
+    if summary["stop_reason"] != "stop time reached":
+        bar.set_postfix_str(summary["stop_reason"], refresh=False)
+        bar.leave = True  # keep the bar that says why (shown only if the run lasted past its delay)
+    bar.refresh()
+
+
 def _print_summary(summary, out_dir):
     click.echo(f"{Path(summary['scenario']).name}: {summary['status']} ({summary['stop_reason']}), "
                f"{summary['steps']} steps in {summary['wall_time_s']:.3f} s")
     _print_failure(summary)
     if summary["event"]:
         click.echo(f"  event at t = {summary['event']['time']:.6g} s")
-    names = list(summary["final"])[:12]
+    names = list(summary["final"])
     if names:
+        units = summary.get("units", {})
         width = max(len(n) for n in names)
-        click.echo(f"  {'signal':<{width}}  {'final':>14}  {'min':>14}  {'max':>14}")
+        uwidth = max([len("unit")] + [len(units.get(n, "")) for n in names])
+        click.echo(f"  {'signal':<{width}}  {'unit':<{uwidth}}  {'final':>14}  {'min':>14}  {'max':>14}")
         for n in names:
             lo = summary["min"].get(n, {}).get("value", float("nan"))
             hi = summary["max"].get(n, {}).get("value", float("nan"))
             final = summary["final"][n]
             final = f"{final:14.7g}" if isinstance(final, float) else f"{final:>14}"
-            click.echo(f"  {n:<{width}}  {final}  {lo:14.7g}  {hi:14.7g}")
+            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {final}  {lo:14.7g}  {hi:14.7g}")
     _print_expectations(summary["expectations"])
     click.echo(f"  results in {out_dir}")
 
@@ -147,15 +161,31 @@ def _print_expectations(results):
                    f"{measured} vs {r['expected']:.7g} +- {r['allowed_error']:.3g}  ({r['source']})")
 
 
-def _run_one(scenario, out_dir, plots):
+def _run_one(scenario, out_dir, plots, formats=("csv",)):
     from aotv_cosim.runner import run_scenario
 
     bar, update = _progress_bar(scenario)
     try:
-        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots)
+        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots, formats=formats)
+        _finish_bar(bar, summary, scenario.start)
     finally:
         bar.close()
     return summary, out_dir
+
+
+_TIMES = [click.option("--start", type=float, help="Start time in s, overriding the scenario."),
+          click.option("--stop", type=float, help="Stop time in s, overriding the scenario (then only "
+                                                  "expectations at the event are checked).")]
+
+
+def _time_options(command):
+    """Add --start and --stop to a command."""
+    for option in reversed(_TIMES):
+        command = option(command)
+    return command
+
+
+_FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")}
 
 
 @main.command()
@@ -163,18 +193,21 @@ def _run_one(scenario, out_dir, plots):
 @click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>].")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
+@_time_options
+@click.option("--format", "series_format", type=click.Choice(sorted(_FORMATS)), default="csv", show_default=True,
+              help="Time series file: timeseries.csv, timeseries.parquet (units in the field metadata) or both.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
-def run(scenario, out, sets, step, no_plots):
-    """Run SCENARIO: writes timeseries.csv, summary.json and plots.
+def run(scenario, out, sets, step, start, stop, series_format, no_plots):
+    """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
     SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
     from aotv_cosim.scenario import load_scenario, parse_sets
 
     def body():
-        loaded = load_scenario(scenario, parse_sets(sets), step)
+        loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
         summary, out_dir = _run_one(loaded, Path(out) if out else DEFAULT_OUT / Path(scenario).stem,
-                                    not no_plots)
+                                    not no_plots, _FORMATS[series_format])
         _print_summary(summary, out_dir)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
@@ -189,10 +222,12 @@ def run(scenario, out, sets, step, no_plots):
 @main.command()
 @click.argument("paths", nargs=-1, type=click.Path(exists=True))
 @click.option("--out", type=click.Path(file_okay=False), help="Base output folder [results/check].")
-def check(paths, out):
+@_time_options
+def check(paths, out, start, stop):
     """Run every scenario with expectations under PATHS [scenarios/] and compare.
 
-    Every scenario found is loaded and validated before the first one runs."""
+    Every scenario found is loaded and validated before the first one runs; each result line
+    starts with its N/M count."""
     from aotv_cosim.scenario import load_scenario
 
     files = []
@@ -201,13 +236,14 @@ def check(paths, out):
         files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
 
     def body():
-        candidates = [s for s in map(load_scenario, files) if s.expectations]
+        loaded = _with_builds(lambda: [load_scenario(f, start=start, stop=stop) for f in files])
+        candidates = [s for s in loaded if s.expectations or s.skipped]
         failed = 0
-        for scenario in candidates:
+        for k, scenario in enumerate(candidates, 1):
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
             ok = summary["status"] == "completed" and all(r["passed"] for r in summary["expectations"])
             failed += not ok
-            click.echo(f"{'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
+            click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
                        f"{summary['wall_time_s']:.2f} s)")
             _print_failure(summary)
             _print_expectations(summary["expectations"])
@@ -239,6 +275,14 @@ def validate(files):
     _guard(body)
 
 
+def _with_builds(load):
+    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
+    from aotv_cosim.build_progress import BuildProgress
+
+    with BuildProgress():
+        return load()
+
+
 def _kind(path):
     """The kind of document `path` is: named by its "$schema" (wiring, compare, scenario), else
     'wiring' if it has components or connections, else 'scenario'.
@@ -258,15 +302,29 @@ def _kind(path):
     return "wiring" if "components" in doc or "connections" in doc else "scenario"
 
 
+@main.command()
+@click.argument("target", metavar="FMU|WIRING")
+def describe(target):
+    """Print the variables of an FMU (a name of this package or a .fmu file), or of every FMU of a
+    WIRING, scenario or .ssp file: causality, variability, type, unit, start, declared min and
+    max, description (for a wiring also the value it sets or the source of a connected input)."""
+    from aotv_cosim.fmu_table import describe as table, format_table
+
+    _guard(lambda: click.echo(format_table(_with_builds(lambda: table(target)))))
+
+
 @main.command("build-fmus")
 @click.option("--out", type=click.Path(file_okay=False), help="Put the FMUs here instead of the cache.")
 def build_fmus(out):
     """Build every FMU of fmus_src (only those whose sources changed)."""
     from aotv_cosim import fmu_build
+    from aotv_cosim.build_progress import BuildProgress
 
     def body():
-        for name, path in fmu_build.build_all(out).items():
-            click.echo(f"{name}: {path}")
+        names = fmu_build.available_fmus()
+        with BuildProgress(total=sum(fmu_build.needs_build(n, out) for n in names)) as progress:
+            for name in names:
+                progress.echo(f"{name}: {fmu_build.ensure_fmu(name, out)}")
 
     _guard(body)
 
@@ -281,19 +339,21 @@ def build_fmus(out):
 @click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
+@_time_options
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.montecarlo import run_campaign
     from aotv_cosim.scenario import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
-        summary = run_campaign(scenario, runs, out_dir, workers=workers, seed=seed, scheduler=scheduler,
-                               resume=resume, sets=parse_sets(sets) or None)
+        summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
+                                                    scheduler=scheduler, resume=resume,
+                                                    sets=parse_sets(sets) or None, start=start, stop=stop))
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
-        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics in summary.json")
+        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json")
 
     _guard(body)
 

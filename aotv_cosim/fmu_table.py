@@ -87,3 +87,8 @@ def _system_table(system) -> pd.DataFrame:
                 value = "<- " + ".".join(sources[(comp.name, name)])
             rows.append({"component": comp.name, **row, "value": value})
     return pd.DataFrame(rows, columns=["component", *COLUMNS, "value"])
+
+
+def format_table(frame: pd.DataFrame) -> str:
+    """The table as aligned text, blank where a value is not declared."""
+    return frame.astype(object).where(frame.notna(), "").to_string(index=False)
