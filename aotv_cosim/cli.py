@@ -13,7 +13,7 @@ from pathlib import Path
 
 import click
 
-from aotv_cosim.errors import AotvError, ValidationFailed
+from aotv_cosim.errors import AotvError, SimulationError, ValidationFailed
 
 DEFAULT_OUT = Path("results")
 
@@ -109,14 +109,14 @@ def _progress_bar(scenario):
 
 
 def _finish_bar(bar, summary, start):
-    """Leave the bar at 100 % of the simulated span when a stop condition ended the run, and say
-    on it why a run stopped early (failure, interruption, stop condition)."""
+    """Put the bar at 100 % of the simulated span when a stop condition ended the run, and keep a
+    bar that says why a run stopped early (stop condition, failure, interruption) when it is
+    closed. A bar never shown (a run shorter than its delay) stays hidden."""
     if summary["status"] == "completed" and summary["end_time"] is not None:
         bar.total = bar.n = round(summary["end_time"] - start, 6)
     if summary["stop_reason"] != "stop time reached":
         bar.set_postfix_str(summary["stop_reason"], refresh=False)
-        bar.leave = True  # keep the bar that says why (shown only if the run lasted past its delay)
-    bar.refresh()
+        bar.leave = True
 
 
 def _print_summary(summary, out_dir):
@@ -404,25 +404,72 @@ def figures():
     """Draw a seed's figures (the documents' plots, from this package's runs)."""
 
 
+def _shipped(name):
+    from aotv_cosim.shipped import scenario
+
+    return str(scenario(name))
+
+
+@figures.command("seed000")
+@click.option("--out", type=click.Path(file_okay=False), default="results/seed000_figures", show_default=True)
+@click.option("--scenarios", type=click.Path(file_okay=False), help="Folder of the seed-000 scenarios "
+              "[the shipped scenarios].")
+def figures_seed000(out, scenarios):
+    """Seed-000 thesis figures: altitude, speed, flight-path angle, lift command and heating against
+    time for every law (nominal entry and atmosphere), and the Table 8.1 comparison (table and
+    figure); prints the table (runs 8 laws twice and 11 scenarios, about a minute)."""
+    from aotv_cosim.seed000_figures import make_all
+
+    def body():
+        files, table = _with_builds(lambda: make_all(Path(out), scenarios,
+                                                     progress=lambda name: click.echo(f"flying {name}", err=True)))
+        click.echo(table)
+        for path in files:
+            click.echo(path)
+
+    _guard(body)
+
+
 @figures.command("seed001")
 @click.option("--out", type=click.Path(file_okay=False), default="results/seed001_figures", show_default=True)
-def figures_seed001(out):
+@click.option("--scenario", type=click.Path(dir_okay=False), help="The guided run "
+              "[the shipped plane_change_mae_guided.json].")
+def figures_seed001(out, scenario):
     """Seed-001 report figures 3.4-3.19: gamma, speed, costates, lambda, bank, altitude; guided against optimal."""
     from aotv_cosim.plane_change_plots import make_all
 
-    _guard(lambda: [click.echo(Path(out) / name) for name in make_all(Path(out))])
+    guided = scenario or _shipped("plane_change_mae_guided.json")
+    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided))])
 
 
 @figures.command("seed002")
-@click.argument("run_dir", type=click.Path(exists=True, file_okay=False))
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [RUN_DIR].")
-def figures_seed002(run_dir, out):
+@click.argument("run_dir", required=False, type=click.Path(exists=True, file_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [RUN_DIR, or "
+              "results/seed002_figures without it].")
+@click.option("--scenario", type=click.Path(dir_okay=False), help="Without RUN_DIR, the run to make first "
+              "[the shipped entry_ideal_combined.json].")
+def figures_seed002(run_dir, out, scenario):
     """Seed-002 paper figures 1-6 of a finished entry-tracking run in RUN_DIR (from `aotv-cosim run
     scenarios/entry_*.json`): ground track, errors against Mach, alpha and bank with their bands,
-    altitude, drag."""
+    altitude, drag. Without RUN_DIR the ideal-plant combined case is run first (into OUT/run)."""
     from aotv_cosim.entry_plots import plot
 
-    _guard(lambda: [click.echo(path) for path in plot(run_dir, out)])
+    def body():
+        folder = run_dir
+        if folder is None:
+            from aotv_cosim.runner import run_scenario
+            from aotv_cosim.scenario import load_scenario
+
+            folder = Path(out or "results/seed002_figures") / "run"
+            loaded = _with_builds(lambda: load_scenario(scenario or _shipped("entry_ideal_combined.json")))
+            summary = run_scenario(loaded, folder, make_plots=False)
+            if summary["status"] != "completed":
+                raise SimulationError(f"the run failed: {summary['error']}", file=str(loaded.path),
+                                      fix=f"see {folder / 'summary.json'}")
+        for path in plot(folder, out or (None if run_dir else folder.parent)):
+            click.echo(path)
+
+    _guard(body)
 
 
 @figures.command("seed003")
@@ -432,4 +479,4 @@ def figures_seed003(out):
     (runs the scenarios/shuttle_*.json systems, about a minute)."""
     from aotv_cosim.shuttle_report import main as report
 
-    _guard(lambda: report(out))
+    _guard(lambda: _with_builds(lambda: report(out)))
