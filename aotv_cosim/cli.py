@@ -9,6 +9,7 @@ one line too, unless --debug asks for the traceback.
 import contextlib
 import signal
 import sys
+import time
 from pathlib import Path
 
 import click
@@ -238,7 +239,7 @@ def check(paths, out, start, stop):
     def body():
         loaded = _with_builds(lambda: [load_scenario(f, start=start, stop=stop) for f in files])
         candidates = [s for s in loaded if s.expectations or s.skipped]
-        failed = 0
+        failed, t0 = 0, time.perf_counter()
         for k, scenario in enumerate(candidates, 1):
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
             ok = summary["status"] == "completed" and all(r["passed"] for r in summary["expectations"])
@@ -249,7 +250,7 @@ def check(paths, out, start, stop):
             _print_expectations(summary["expectations"])
             if summary["status"] == "interrupted":
                 sys.exit(_exit_status(summary))
-        click.echo(f"{len(candidates) - failed} passed, {failed} failed")
+        click.echo(f"{len(candidates) - failed} passed, {failed} failed in {time.perf_counter() - t0:.1f} s")
         sys.exit(1 if failed else 0)
 
     with _stoppable():
