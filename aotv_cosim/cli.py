@@ -456,18 +456,19 @@ def figures_seed002(run_dir, out, scenario):
     from aotv_cosim.entry_plots import plot
 
     def body():
-        folder = run_dir
-        if folder is None:
+        folder, target = run_dir, out
+        if run_dir is None:
             from aotv_cosim.runner import run_scenario
             from aotv_cosim.scenario import load_scenario
 
-            folder = Path(out or "results/seed002_figures") / "run"
+            target = Path(out or "results/seed002_figures")
+            folder = target / "run"
             loaded = _with_builds(lambda: load_scenario(scenario or _shipped("entry_ideal_combined.json")))
             summary = run_scenario(loaded, folder, make_plots=False)
             if summary["status"] != "completed":
                 raise SimulationError(f"the run failed: {summary['error']}", file=str(loaded.path),
                                       fix=f"see {folder / 'summary.json'}")
-        for path in plot(folder, out or (None if run_dir else folder.parent)):
+        for path in plot(folder, target):
             click.echo(path)
 
     _guard(body)

@@ -7,6 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__, plots
+from aotv_cosim.errors import InputError
 from aotv_cosim.master import Master, signals_to_read
 from aotv_cosim.results import (TimeSeriesWriter, evaluate_expectations, statistics,
                                 write_json_atomically)
@@ -44,6 +45,10 @@ def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",
 
     timeseries.csv is appended as the run goes; timeseries.parquet is written at the end, with
     each field's unit in its metadata."""
+    unknown = [f for f in formats if f not in FORMATS]
+    if unknown or not formats:
+        raise InputError(f"unknown time series format(s) {', '.join(map(repr, unknown)) or '(none given)'}",
+                         entry="formats", fix="give csv and/or parquet")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
 
