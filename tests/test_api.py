@@ -7,13 +7,11 @@ import subprocess
 import sys
 import zipfile
 
-import numpy as np
 import pandas as pd
 import pytest
 
 import aotv_cosim
 from aotv_cosim.errors import InputError
-from aotv_cosim.runner import run_scenario
 from aotv_cosim.scenario import load_scenario
 
 from conftest import NOMINAL, ROOT, SCENARIOS, WIRING
