@@ -1,4 +1,5 @@
-"""The `aotv-cosim` command: run, check, validate, build-fmus, export-ssp, compare.
+"""The `aotv-cosim` command: run, check, validate, describe, build-fmus, export-ssp, montecarlo,
+compare, figures.
 
 Every error the package foresees is printed as one line `error: FILE: ENTRY: CAUSE; FIX` with
 exit status 2 for bad input and 1 for a failed run or failed expectations; an unforeseen error is
@@ -9,13 +10,12 @@ import contextlib
 import os
 import signal
 import sys
+import time
 from pathlib import Path
 
 import click
 
-from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
-from aotv_cosim.engine.errors import AotvError, InputError, ValidationFailed
-from aotv_cosim.engine.paths import writable_file, writable_folder
+from aotv_cosim.errors import AotvError, SimulationError, ValidationFailed
 
 DEFAULT_OUT = Path("results")
 
@@ -110,22 +110,35 @@ def _progress_bar(scenario):
     return bar, update
 
 
+def _finish_bar(bar, summary, start):
+    """Put the bar at 100 % of the simulated span when a stop condition ended the run, and keep a
+    bar that says why a run stopped early (stop condition, failure, interruption) when it is
+    closed. A bar never shown (a run shorter than its delay) stays hidden."""
+    if summary["status"] == "completed" and summary["end_time"] is not None:
+        bar.total = bar.n = round(summary["end_time"] - start, 6)
+    if summary["stop_reason"] != "stop time reached":
+        bar.set_postfix_str(summary["stop_reason"], refresh=False)
+        bar.leave = True
+
+
 def _print_summary(summary, out_dir):
     click.echo(f"{Path(summary['scenario']).name}: {summary['status']} ({summary['stop_reason']}), "
                f"{summary['steps']} steps in {summary['wall_time_s']:.3f} s")
     _print_failure(summary)
     if summary["event"]:
         click.echo(f"  event at t = {summary['event']['time']:.6g} s")
-    names = list(summary["final"])[:12]
+    names = list(summary["final"])
     if names:
+        units = summary.get("units", {})
         width = max(len(n) for n in names)
-        click.echo(f"  {'signal':<{width}}  {'final':>14}  {'min':>14}  {'max':>14}")
+        uwidth = max([len("unit")] + [len(units.get(n, "")) for n in names])
+        click.echo(f"  {'signal':<{width}}  {'unit':<{uwidth}}  {'final':>14}  {'min':>14}  {'max':>14}")
         for n in names:
             lo = summary["min"].get(n, {}).get("value", float("nan"))
             hi = summary["max"].get(n, {}).get("value", float("nan"))
             final = summary["final"][n]
             final = f"{final:14.7g}" if isinstance(final, float) else f"{final:>14}"
-            click.echo(f"  {n:<{width}}  {final}  {lo:14.7g}  {hi:14.7g}")
+            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {final}  {lo:14.7g}  {hi:14.7g}")
     _print_expectations(summary["expectations"])
     click.echo(f"  results in {out_dir}")
 
@@ -150,15 +163,31 @@ def _print_expectations(results):
                    f"{measured} vs {r['expected']:.7g} +- {r['allowed_error']:.3g}  ({r['source']})")
 
 
-def _run_one(scenario, out_dir, plots):
-    from aotv_cosim.engine.runner import run_scenario
+def _run_one(scenario, out_dir, plots, formats=("csv",)):
+    from aotv_cosim.runner import run_scenario
 
     bar, update = _progress_bar(scenario)
     try:
-        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots)
+        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots, formats=formats)
+        _finish_bar(bar, summary, scenario.start)
     finally:
         bar.close()
     return summary, out_dir
+
+
+_TIMES = [click.option("--start", type=float, help="Start time in s, overriding the scenario."),
+          click.option("--stop", type=float, help="Stop time in s, overriding the scenario (then only "
+                                                  "expectations at the event are checked).")]
+
+
+def _time_options(command):
+    """Add --start and --stop to a command."""
+    for option in reversed(_TIMES):
+        command = option(command)
+    return command
+
+
+_FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")}
 
 
 @main.command()
@@ -166,18 +195,21 @@ def _run_one(scenario, out_dir, plots):
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>].")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
+@_time_options
+@click.option("--format", "series_format", type=click.Choice(sorted(_FORMATS)), default="csv", show_default=True,
+              help="Time series file: timeseries.csv, timeseries.parquet (units in the field metadata) or both.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
-def run(scenario, out, sets, step, no_plots):
-    """Run SCENARIO: writes timeseries.csv, summary.json and plots.
+def run(scenario, out, sets, step, start, stop, series_format, no_plots):
+    """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
     SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
     from aotv_cosim.engine.scenario import load_scenario, parse_sets
 
     def body():
-        loaded = load_scenario(scenario, parse_sets(sets), step)
-        out_dir = writable_folder(Path(out) if out else DEFAULT_OUT / Path(scenario).stem)
-        summary, out_dir = _run_one(loaded, out_dir, not no_plots)
+        loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
+        summary, out_dir = _run_one(loaded, Path(out) if out else DEFAULT_OUT / Path(scenario).stem,
+                                    not no_plots, _FORMATS[series_format])
         _print_summary(summary, out_dir)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
@@ -190,36 +222,36 @@ def run(scenario, out, sets, step, no_plots):
 
 
 @main.command()
-@click.argument("paths", nargs=-1, type=UserPath(exists=True))
-@click.option("--out", type=UserPath(file_okay=False), help="Base output folder [results/check].")
-def check(paths, out):
+@click.argument("paths", nargs=-1, type=click.Path(exists=True))
+@click.option("--out", type=click.Path(file_okay=False), help="Base output folder [results/check].")
+@_time_options
+def check(paths, out, start, stop):
     """Run every scenario with expectations under PATHS [scenarios/] and compare.
 
-    Every scenario found is loaded and validated before the first one runs."""
-    from aotv_cosim.engine.scenario import load_scenario
+    Every scenario found is loaded and validated before the first one runs; each result line
+    starts with its N/M count."""
+    from aotv_cosim.scenario import load_scenario
+
+    files = []
+    for p in paths or ("scenarios",):
+        p = Path(p)
+        files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
 
     def body():
-        files = []
-        for p in paths or ("scenarios",):
-            p = Path(p)
-            if p.is_dir() and not os.access(p, os.R_OK | os.X_OK):
-                raise InputError("cannot list the folder: permission denied", file=p,
-                                 fix="give a folder you may read")
-            files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
-        candidates = [s for s in map(load_scenario, files) if s.expectations]
-        writable_folder(Path(out or DEFAULT_OUT / "check"))
-        failed = 0
-        for scenario in candidates:
+        loaded = _with_builds(lambda: [load_scenario(f, start=start, stop=stop) for f in files])
+        candidates = [s for s in loaded if s.expectations or s.skipped]
+        failed, t0 = 0, time.perf_counter()
+        for k, scenario in enumerate(candidates, 1):
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
             ok = summary["status"] == "completed" and all(r["passed"] for r in summary["expectations"])
             failed += not ok
-            click.echo(f"{'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
+            click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
                        f"{summary['wall_time_s']:.2f} s)")
             _print_failure(summary)
             _print_expectations(summary["expectations"])
             if summary["status"] == "interrupted":
                 sys.exit(_exit_status(summary))
-        click.echo(f"{len(candidates) - failed} passed, {failed} failed")
+        click.echo(f"{len(candidates) - failed} passed, {failed} failed in {time.perf_counter() - t0:.1f} s")
         sys.exit(1 if failed else 0)
 
     with _stoppable():
@@ -245,6 +277,14 @@ def validate(files):
     _guard(body)
 
 
+def _with_builds(load):
+    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
+    from aotv_cosim.build_progress import BuildProgress
+
+    with BuildProgress():
+        return load()
+
+
 def _kind(path):
     """The kind of document `path` is: named by its "$schema" (wiring, compare, scenario), else
     'wiring' if it has components or connections, else 'scenario'.
@@ -267,15 +307,29 @@ def _kind(path):
     return "wiring" if "components" in doc or "connections" in doc else "scenario"
 
 
+@main.command()
+@click.argument("target", metavar="FMU|WIRING")
+def describe(target):
+    """Print the variables of an FMU (a name of this package or a .fmu file), or of every FMU of a
+    WIRING, scenario or .ssp file: causality, variability, type, unit, start, declared min and
+    max, description (for a wiring also the value it sets or the source of a connected input)."""
+    from aotv_cosim.fmu_table import describe as table, format_table
+
+    _guard(lambda: click.echo(format_table(_with_builds(lambda: table(target)))))
+
+
 @main.command("build-fmus")
 @click.option("--out", type=UserPath(file_okay=False), help="Put the FMUs here instead of the cache.")
 def build_fmus(out):
     """Build every FMU of fmus_src (only those whose sources changed)."""
-    from aotv_cosim.fmu import build as fmu_build
+    from aotv_cosim import fmu_build
+    from aotv_cosim.build_progress import BuildProgress
 
     def body():
-        for name, path in fmu_build.build_all(out).items():
-            click.echo(f"{name}: {path}")
+        names = fmu_build.available_fmus()
+        with BuildProgress(total=sum(fmu_build.needs_build(n, out) for n in names)) as progress:
+            for name in names:
+                progress.echo(f"{name}: {fmu_build.ensure_fmu(name, out)}")
 
     _guard(body)
 
@@ -290,7 +344,8 @@ def build_fmus(out):
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
+@_time_options
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.montecarlo.checks import check_reachable, check_resumable
     from aotv_cosim.montecarlo import run_campaign
@@ -298,17 +353,13 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
-        writable_folder(out_dir)
-        if resume:
-            check_resumable(out_dir)
-        if scheduler:
-            check_reachable(scheduler)
-        summary = run_campaign(scenario, runs, out_dir, workers=workers, seed=seed, scheduler=scheduler,
-                               resume=resume, sets=parse_sets(sets) or None)
+        summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
+                                                    scheduler=scheduler, resume=resume,
+                                                    sets=parse_sets(sets) or None, start=start, stop=stop))
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
-        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics in summary.json")
+        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json")
 
     _guard(body)
 
@@ -359,25 +410,73 @@ def figures():
     """Draw a seed's figures (the documents' plots, from this package's runs)."""
 
 
+def _shipped(name):
+    from aotv_cosim.shipped import scenario
+
+    return str(scenario(name))
+
+
+@figures.command("seed000")
+@click.option("--out", type=click.Path(file_okay=False), default="results/seed000_figures", show_default=True)
+@click.option("--scenarios", type=click.Path(file_okay=False), help="Folder of the seed-000 scenarios "
+              "[the shipped scenarios].")
+def figures_seed000(out, scenarios):
+    """Seed-000 thesis figures: altitude, speed, flight-path angle, lift command and heating against
+    time for every law (nominal entry and atmosphere), and the Table 8.1 comparison (table and
+    figure); prints the table (runs 8 laws twice and 11 scenarios, about a minute)."""
+    from aotv_cosim.seed000_figures import make_all
+
+    def body():
+        files, table = _with_builds(lambda: make_all(Path(out), scenarios,
+                                                     progress=lambda name: click.echo(f"flying {name}", err=True)))
+        click.echo(table)
+        for path in files:
+            click.echo(path)
+
+    _guard(body)
+
+
 @figures.command("seed001")
-@click.option("--out", type=UserPath(file_okay=False), default="results/seed001_figures", show_default=True)
-def figures_seed001(out):
+@click.option("--out", type=click.Path(file_okay=False), default="results/seed001_figures", show_default=True)
+@click.option("--scenario", type=click.Path(dir_okay=False), help="The guided run "
+              "[the shipped plane_change_mae_guided.json].")
+def figures_seed001(out, scenario):
     """Seed-001 report figures 3.4-3.19: gamma, speed, costates, lambda, bank, altitude; guided against optimal."""
     from aotv_cosim.studies.plane_change_plots import make_all
 
-    _guard(lambda: [click.echo(Path(out) / name) for name in make_all(Path(out))])
+    guided = scenario or _shipped("plane_change_mae_guided.json")
+    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided))])
 
 
 @figures.command("seed002")
-@click.argument("run_dir", type=UserPath(exists=True, file_okay=False))
-@click.option("--out", type=UserPath(file_okay=False), help="Output folder [RUN_DIR].")
-def figures_seed002(run_dir, out):
+@click.argument("run_dir", required=False, type=click.Path(exists=True, file_okay=False))
+@click.option("--out", type=click.Path(file_okay=False), help="Output folder [RUN_DIR, or "
+              "results/seed002_figures without it].")
+@click.option("--scenario", type=click.Path(dir_okay=False), help="Without RUN_DIR, the run to make first "
+              "[the shipped entry_ideal_combined.json].")
+def figures_seed002(run_dir, out, scenario):
     """Seed-002 paper figures 1-6 of a finished entry-tracking run in RUN_DIR (from `aotv-cosim run
     scenarios/entry_*.json`): ground track, errors against Mach, alpha and bank with their bands,
-    altitude, drag."""
-    from aotv_cosim.studies.entry_plots import plot
+    altitude, drag. Without RUN_DIR the ideal-plant combined case is run first (into OUT/run)."""
+    from aotv_cosim.entry_plots import plot
 
-    _guard(lambda: [click.echo(path) for path in plot(run_dir, out)])
+    def body():
+        folder, target = run_dir, out
+        if run_dir is None:
+            from aotv_cosim.runner import run_scenario
+            from aotv_cosim.scenario import load_scenario
+
+            target = Path(out or "results/seed002_figures")
+            folder = target / "run"
+            loaded = _with_builds(lambda: load_scenario(scenario or _shipped("entry_ideal_combined.json")))
+            summary = run_scenario(loaded, folder, make_plots=False)
+            if summary["status"] != "completed":
+                raise SimulationError(f"the run failed: {summary['error']}", file=str(loaded.path),
+                                      fix=f"see {folder / 'summary.json'}")
+        for path in plot(folder, target):
+            click.echo(path)
+
+    _guard(body)
 
 
 @figures.command("seed003")
@@ -387,4 +486,4 @@ def figures_seed003(out):
     (runs the scenarios/shuttle_*.json systems, about a minute)."""
     from aotv_cosim.studies.shuttle_report import main as report
 
-    _guard(lambda: report(out))
+    _guard(lambda: _with_builds(lambda: report(out)))

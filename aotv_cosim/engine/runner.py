@@ -1,13 +1,29 @@
-"""Run a Scenario into an output folder: time series, summary.json and plots."""
+"""Run a Scenario in memory (`simulate`) or into an output folder: time series, summary.json, plots."""
 
 import platform
 from pathlib import Path
+from typing import NamedTuple
 
-from aotv_cosim import __version__
-from aotv_cosim.engine import plots
-from aotv_cosim.engine.master import Master, signals_to_read
-from aotv_cosim.engine.results import (TimeSeriesWriter, evaluate_expectations, statistics,
+import numpy as np
+
+from aotv_cosim import __version__, plots
+from aotv_cosim.errors import InputError
+from aotv_cosim.master import Master, signals_to_read
+from aotv_cosim.results import (TimeSeriesWriter, evaluate_expectations, statistics,
                                 write_json_atomically)
+from aotv_cosim.series import SeriesTable, units_of, write_parquet
+
+FORMATS = ("csv", "parquet")
+"""Time series files a run can write: timeseries.csv (as the run goes) and timeseries.parquet."""
+
+
+class Run(NamedTuple):
+    """A finished run: its summary dict and the recorded table (columns, times in s, rows)."""
+
+    summary: dict
+    columns: list
+    times: np.ndarray
+    rows: np.ndarray
 
 
 def recorded_columns(scenario):
@@ -19,16 +35,51 @@ def recorded_columns(scenario):
     return list(dict.fromkeys(wanted))
 
 
-def run_scenario(scenario, out_dir, progress=None, make_plots=True):
+def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)):
     """Run and write results; returns the summary dict (also in out_dir/summary.json)."""
+    return write_run(scenario, out_dir, progress, make_plots, formats).summary
+
+
+def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)) -> Run:
+    """Run into out_dir: the time series in `formats` (FORMATS), summary.json and the plots.
+
+    timeseries.csv is appended as the run goes; timeseries.parquet is written at the end, with
+    each field's unit in its metadata."""
+    unknown = [f for f in formats if f not in FORMATS]
+    if unknown or not formats:
+        raise InputError(f"unknown time series format(s) {', '.join(map(repr, unknown)) or '(none given)'}",
+                         entry="formats", fix="give csv and/or parquet")
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+
+    def open_series(columns, index):
+        return TimeSeriesWriter(out_dir, columns, index) if "csv" in formats else SeriesTable(columns, index)
+
+    run = simulate(scenario, open_series, progress)
+    summary, columns, times, rows = run
+    if "parquet" in formats:
+        write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary["units"])
+    if make_plots and len(times) > 1:
+        summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
+                                          scenario.path.stem)
+        summary["plots"] += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
+                             for spec in scenario.plots]
+    write_json_atomically(out_dir / "summary.json", summary)
+    return run
+
+
+def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
+    """Run the scenario; nothing is written but what the series object does with the rows.
+
+    open_series(columns, index) makes the master's record callback (a `SeriesTable`, kept in
+    memory, or a `TimeSeriesWriter`) once the buffer layout `index` is known; it needs `close()`
+    and `table()`. The summary has no plots."""
     writer = None
 
     def record(times, rows):
         nonlocal writer
         if writer is None:
-            writer = TimeSeriesWriter(out_dir, recorded_columns(scenario), master.index)
+            writer = open_series(recorded_columns(scenario), master.index)
         writer(times, rows)
 
     master = Master(scenario, record, progress)
@@ -36,7 +87,7 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
     _attach_fmu_log(outcome, master)
     columns = recorded_columns(scenario)
     if writer is None:  # failed before the first row: still leave a readable, empty series
-        writer = TimeSeriesWriter(out_dir, [], {})
+        writer = open_series([], {})
         columns = []
     writer.close()
     times, rows = writer.table()
@@ -59,19 +110,14 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
         "init_time_s": outcome.init_time,
         "us_per_step": (outcome.wall_time - outcome.init_time) / outcome.steps * 1e6 if outcome.steps else None,
         "final": final, "min": minima, "max": maxima,
+        "units": units_of(scenario.system, columns),
         "expectations": evaluate_expectations(scenario.expectations, columns, times, rows,
                                               outcome.event) if outcome.status == "completed" else [],
         "fmus": outcome.fmus,
         "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
         "plots": [],
     }
-    if make_plots and len(times) > 1:
-        summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
-                                          scenario.path.stem)
-        summary["plots"] += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
-                             for spec in scenario.plots]
-    write_json_atomically(out_dir / "summary.json", summary)
-    return summary
+    return Run(summary, columns, times, rows)
 
 
 def _attach_fmu_log(outcome, master):
@@ -83,8 +129,11 @@ def _attach_fmu_log(outcome, master):
 
 
 def _warnings(scenario, outcome):
-    """What a completed run did not do that the scenario asked for: a stop condition never met."""
+    """What a completed run did not do that the scenario asked for: a stop condition never met,
+    expectations not checked because the time span was overridden."""
+    skipped = [f"{len(scenario.skipped)} expectation(s) not checked: start/stop overridden "
+               f"(run {scenario.start:g}..{scenario.stop:g} s)"] if scenario.skipped else []
     if outcome.status != "completed" or not scenario.stop_conditions or outcome.event is not None:
-        return []
+        return skipped
     conditions = ", ".join(f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)
-    return [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]
+    return skipped + [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]

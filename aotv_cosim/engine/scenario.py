@@ -85,6 +85,8 @@ class Scenario:
     """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
     dispersions: list = field(default_factory=list)
     scatter: list = field(default_factory=list)
+    skipped: list = field(default_factory=list)
+    """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
 
 
 def parse_sets(pairs, origin="--set") -> dict:
@@ -100,10 +102,14 @@ def parse_sets(pairs, origin="--set") -> dict:
     return values
 
 
-def load_scenario(path, sets=None, step=None) -> Scenario:
-    """Load a scenario; `sets` ({'comp.var': value}, from --set) and `step` override the file.
+def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario:
+    """Load a scenario; `sets` ({'comp.var': value}, from --set), `step`, `start` and `stop`
+    (s, from --step, --start, --stop) override the file.
 
-    An .ssp archive is a scenario too: its system over its default experiment.
+    With start or stop overridden the run is another experiment: the expectations measured at
+    the end, a minimum, a maximum or a time are not checked (they are listed in `skipped`);
+    those at the stop condition's event still are. An .ssp archive is a scenario too: its
+    system over its default experiment.
     """
     path = resolved(path, what="scenario file")
     if path.suffix == ".ssp":
@@ -121,8 +127,13 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
     overrides = dict(doc.get("parameters", {}))
     system = load_system(system_path, overrides, overrides_file=path) if not sets else \
         load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
+    expectations = [Expectation(e["signal"], e["at"], float(e["value"]), e["source"],
+                                e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
+                    for e in doc.get("expectations", [])]
+    retimed = start is not None or stop is not None
     scenario = Scenario(
-        path=path, system=system, start=float(doc.get("start", 0.0)), stop=float(doc["stop"]),
+        path=path, system=system, start=float(doc.get("start", 0.0) if start is None else start),
+        stop=float(doc["stop"] if stop is None else stop),
         step=float(step if step is not None else _step_options(doc)["size"]),
         inputs=_step_options(doc).get("inputs", "held"),
         algorithm=doc.get("algorithm", "gauss-seidel"),
@@ -130,9 +141,8 @@ def load_scenario(path, sets=None, step=None) -> Scenario:
                          for c in doc.get("stop_conditions", [])],
         record=list(doc.get("record", _real_outputs(system))),
         record_every=int(doc.get("record_every", 1)),
-        expectations=[Expectation(e["signal"], e["at"], float(e["value"]), e["source"],
-                                  e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
-                      for e in doc.get("expectations", [])],
+        expectations=[e for e in expectations if not retimed or e.at == "event"],
+        skipped=[e for e in expectations if retimed and e.at != "event"],
         plots=list(doc.get("plots", [])),
         description=doc.get("description", ""),
         dispersions=[Dispersion(signal, d["distribution"], d.get("mean"), d.get("std"), d.get("low"),

@@ -465,8 +465,13 @@ def _check_known(comp, var, file, entry):
     names = list(comp.fmu.variables)
     close = difflib.get_close_matches(var, names, n=3)
     hint = f"did you mean {' or '.join(close)}? " if close else ""
+    kinds = [(plural, [v.name for v in comp.fmu.variables.values() if v.causality == causality])
+             for causality, plural in (("parameter", "parameters"), ("input", "inputs"), ("output", "outputs"))]
+    listed = "; ".join(f"{plural}: {', '.join(found) or 'none'}" for plural, found in kinds)
+    others = [v.name for v in comp.fmu.variables.values() if v.causality not in ("parameter", "input", "output")]
+    listed += f"; other: {', '.join(others)}" if others else ""
     return [InputError(f"{comp.name} ({Path(comp.fmu_ref).name}) has no variable {var!r}", file=file, entry=entry,
-                       fix=f"{hint}its variables are {', '.join(names)}")]
+                       fix=f"{hint}its {listed} (`aotv-cosim describe {comp.fmu_ref}` lists them with units)")]
 
 
 def _check_connection(conn, components, file, entry):

@@ -33,6 +33,9 @@ RUNTIME_PATTERNS = ("*.py", "*.csv")
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+BUILD_HOOKS = []
+"""Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
+"done" after (the command line's progress, aotv_cosim.build_progress)."""
 BUILD_FORMAT = "2: explicit variability"
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
@@ -94,14 +97,11 @@ def ensure_fmu(name: str, out_dir=None) -> Path:
 
     Without out_dir the FMU lives in the cache as <name>-<hash16>.fmu; with it, as <name>.fmu.
     """
-    if name not in available_fmus():
-        raise BuildError(f"no FMU named {name!r} in fmus_src",
-                         fix=f"use one of {', '.join(available_fmus())} or a path to a .fmu file")
-    digest = source_hash(name)
-    target = (Path(out_dir) / f"{name}.fmu" if out_dir
-              else cache_dir() / f"{name}-{digest[:16]}.fmu")
+    target, digest = _target(name, out_dir)
     if target.is_file() and built_hash(target) == digest:
         return target
+    for hook in BUILD_HOOKS:
+        hook(name, "start")
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="aotv_build_") as tmp:
         raw = _pythonfmu_build(name, Path(tmp))
@@ -110,7 +110,24 @@ def ensure_fmu(name: str, out_dir=None) -> Path:
         _validate(staged, name)
         os.replace(staged, target) if staged.stat().st_dev == target.parent.stat().st_dev \
             else shutil.move(staged, target)
+    for hook in BUILD_HOOKS:
+        hook(name, "done")
     return target
+
+
+def _target(name: str, out_dir=None):
+    """(path of the built FMU, source hash) for fmus_src/<name>.py."""
+    if name not in available_fmus():
+        raise BuildError(f"no FMU named {name!r} in fmus_src",
+                         fix=f"use one of {', '.join(available_fmus())} or a path to a .fmu file")
+    digest = source_hash(name)
+    return (Path(out_dir) / f"{name}.fmu" if out_dir else cache_dir() / f"{name}-{digest[:16]}.fmu"), digest
+
+
+def needs_build(name: str, out_dir=None) -> bool:
+    """True if `ensure_fmu(name, out_dir)` would build (no FMU, or one from other sources)."""
+    target, digest = _target(name, out_dir)
+    return not (target.is_file() and built_hash(target) == digest)
 
 
 def build_all(out_dir=None) -> dict:

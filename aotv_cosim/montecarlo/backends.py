@@ -30,8 +30,8 @@ def _pool(workers):
     return cf.ProcessPoolExecutor(max_workers=workers, mp_context=context)
 
 
-def local(scenario_path, sets, batches, workers, columns):
-    """Yield row lists from a pool of `workers` processes.
+def local(scenario_path, sets, batches, workers, columns, times=None):
+    """Yield row lists from a pool of `workers` processes (times: (start, stop) overrides or None).
 
     A crash breaks the whole pool and fails every batch in flight, so a failed batch is retried
     on a new pool as single runs, and a single run that fails again is run alone in a pool of
@@ -47,7 +47,7 @@ def local(scenario_path, sets, batches, workers, columns):
                 continue
             pool = _pool(size)
             try:
-                futures = {pool.submit(run_batch, scenario_path, sets, b): b for b in group}
+                futures = {pool.submit(run_batch, scenario_path, sets, b, times): b for b in group}
                 for future in cf.as_completed(futures):
                     batch = futures[future]
                     try:
@@ -62,7 +62,7 @@ def local(scenario_path, sets, batches, workers, columns):
                 pool.shutdown(wait=True, cancel_futures=True)
 
 
-def dask(scenario_path, sets, batches, address, columns):
+def dask(scenario_path, sets, batches, address, columns, times=None):
     """Yield row lists from the Dask scheduler at `address` (a Client object is accepted too)."""
     from distributed import Client, as_completed
 
@@ -70,7 +70,7 @@ def dask(scenario_path, sets, batches, address, columns):
     try:
         queue = list(batches)
         while queue:
-            futures = {client.submit(run_batch, scenario_path, sets, b, pure=False): tuple(b)
+            futures = {client.submit(run_batch, scenario_path, sets, b, times, pure=False): tuple(b)
                        for b in queue}
             queue = []
             for future in as_completed(futures):

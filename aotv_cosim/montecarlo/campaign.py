@@ -7,6 +7,7 @@ from aotv_cosim.engine.errors import InputError
 from aotv_cosim.montecarlo import backends, report
 from aotv_cosim.montecarlo.draws import draw
 from aotv_cosim.montecarlo.store import RowStore
+from aotv_cosim.montecarlo.units import column_units
 from aotv_cosim.montecarlo.worker import columns
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
@@ -20,28 +21,32 @@ def batches_of(items, workers):
 
 
 def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None, resume=False,
-                 sets=None, progress=True, make_plots=True) -> dict:
+                 sets=None, progress=True, make_plots=True, start=None, stop=None) -> dict:
     """Run `runs` dispersed runs of the scenario; returns the campaign summary (summary.json).
 
     scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
-    (or a distributed.Client). The rows do not depend on either choice.
+    (or a distributed.Client). The rows do not depend on either choice. start, stop (s)
+    override the scenario's times (--start, --stop). The summary's `units` give every column's.
     """
     scenario_path = Path(scenario_path).resolve()
-    scenario = load_scenario(scenario_path, sets)
+    scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
+    times = (start, stop) if start is not None or stop is not None else None
     if not scenario.dispersions:
         raise InputError("the scenario declares no dispersions", file=scenario_path, entry="dispersions",
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
     names = columns(scenario)
     manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
-                "dispersions": [d.__dict__ for d in scenario.dispersions]}
+                "dispersions": [d.__dict__ for d in scenario.dispersions],
+                **({"start": start, "stop": stop} if times else {})}
+    units = column_units(scenario, names)
     out = Path(out_dir)
-    store = RowStore(out, names, manifest, resume)
+    store = RowStore(out, names, manifest, resume, units)
     todo = [k for k in range(runs) if k not in store.done()]
     work = [(k, draw(scenario.dispersions, seed, k)) for k in todo]
     n_workers = workers if scheduler is None else max(1, workers)
     chunks = batches_of(work, n_workers)
-    source = (backends.local(str(scenario_path), sets, chunks, workers, names) if scheduler is None
-              else backends.dask(str(scenario_path), sets, chunks, scheduler, names))
+    source = (backends.local(str(scenario_path), sets, chunks, workers, names, times) if scheduler is None
+              else backends.dask(str(scenario_path), sets, chunks, scheduler, names, times))
     bar = None
     if progress:
         from tqdm import tqdm
@@ -72,6 +77,7 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
                    for r in rows if r["status"] != "completed"][:50],
         "statistics": report.statistics(rows, names),
+        "units": units,
         "plots": report.plots(out, rows, scenario) if make_plots else [],
     }
     write_json_atomically(out / "summary.json", summary)

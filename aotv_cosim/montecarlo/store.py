@@ -36,8 +36,10 @@ def _parse(name, text):
 class RowStore:
     """rows.csv of one campaign folder, opened for appending."""
 
-    def __init__(self, out_dir: Path, columns, manifest: dict, resume: bool):
+    def __init__(self, out_dir: Path, columns, manifest: dict, resume: bool, units=None):
+        """units: {column: unit}, written into rows.parquet's field metadata."""
         self.out = Path(out_dir)
+        self.units = units or {}
         self.out.mkdir(parents=True, exist_ok=True)
         self.columns = list(columns)
         self.csv = self.out / "rows.csv"
@@ -98,17 +100,20 @@ class RowStore:
         self.file.close()
         rows = [self.rows[k] for k in sorted(self.rows)]
         self._rewrite(rows, self.csv)
-        write_parquet(rows, self.columns, self.out / "rows.parquet")
+        write_parquet(rows, self.columns, self.out / "rows.parquet", self.units)
         return rows
 
 
-def write_parquet(rows, columns, path: Path):
+def write_parquet(rows, columns, path: Path, units=None):
+    """rows.parquet; each field's unit (units: {column: unit}) in its metadata under b"unit"."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
+    units = units or {}
     types = {n: pa.string() if n in TEXT else pa.int64() if n in INTEGER else pa.float64() for n in columns}
     data = {n: [(None if n in INTEGER and isinstance(r[n], float) else r[n]) for r in rows] for n in columns}
-    table = pa.table({n: pa.array(data[n], type=types[n]) for n in columns})
+    schema = pa.schema([pa.field(n, types[n], metadata={b"unit": units.get(n, "").encode()}) for n in columns])
+    table = pa.table({n: pa.array(data[n], type=types[n]) for n in columns}, schema=schema)
     tmp = path.with_name(path.name + ".part")
     pq.write_table(table, tmp)
     os.replace(tmp, path)

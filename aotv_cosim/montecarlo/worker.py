@@ -50,8 +50,9 @@ class _Extrema:
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, scenario_path, sets=None):
-        self.scenario = load_scenario(scenario_path, sets)
+    def __init__(self, scenario_path, sets=None, times=None):
+        start, stop = times or (None, None)
+        self.scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
         self.signals = recorded_columns(self.scenario)
         self.columns = columns(self.scenario)
         self.pool = {}
@@ -81,18 +82,18 @@ class Runner:
         return row
 
 
-def runner(scenario_path, sets=None) -> Runner:
-    """This thread's Runner for the scenario (made on first use)."""
-    key = (str(scenario_path), tuple(sorted((sets or {}).items())))
+def runner(scenario_path, sets=None, times=None) -> Runner:
+    """This thread's Runner for the scenario (made on first use); times: (start, stop) or None."""
+    key = (str(scenario_path), tuple(sorted((sets or {}).items())), times)
     cache = getattr(_LOCAL, "runners", None)
     if cache is None:
         cache = _LOCAL.runners = {}
     if key not in cache:
-        cache[key] = Runner(scenario_path, sets)
+        cache[key] = Runner(scenario_path, sets, times)
     return cache[key]
 
 
-def run_batch(scenario_path, sets, batch) -> list:
+def run_batch(scenario_path, sets, batch, times=None) -> list:
     """Rows of a batch [(run, values), ...] (the task sent to a worker)."""
-    r = runner(scenario_path, sets)
+    r = runner(scenario_path, sets, times)
     return [r.run(run, values) for run, values in batch]

@@ -9,7 +9,7 @@ the same start until the vehicle climbs back through the exit altitude (or the s
   flight-path angle at the exit crossing (the altitude error is zero there by construction; a law
   that never exits reports its altitude error at the stop time instead), |u|max, integral of u^2,
   peak heating, minimum altitude, the Keplerian apogee and circularisation dv after exit (extraction
-  Sec. 7) and the guidance's solve time;
+  Sec. 7) and the guidance's solve time, every column in SI with its unit in its name;
 - `comparison.png` overlays altitude, speed, flight-path angle, command and heating versus time;
 - each law's own run folder (time series, summary.json) sits under the output folder.
 """
@@ -33,8 +33,9 @@ SIGNALS = ("vehicle.h", "vehicle.v", "vehicle.gamma", "vehicle.qdot", "vehicle.i
 """Signals recorded for every law (plus guidance.solve_time when the law reports one)."""
 
 COLUMNS = ("law", "fmu", "exited", "t_exit_s", "dh_exit_m", "dv_exit_m_s", "dgamma_exit_rad",
-           "u_abs_max_m_s2", "int_u2_m2_s3", "qdot_max_W_cm2", "h_min_km", "apogee_alt_km",
+           "u_abs_max_m_s2", "int_u2_m2_s3", "qdot_max_W_m2", "h_min_m", "apogee_alt_m",
            "dv_circ_m_s", "solve_time_s")
+"""comparison.csv columns, each in SI (its unit is the end of its name)."""
 
 
 @dataclass
@@ -111,9 +112,9 @@ def summarize(label, fmu, summary, columns, rows, exit_target) -> dict:
         "dgamma_exit_rad": at_exit["vehicle.gamma"] - gammaf,
         "u_abs_max_m_s2": float(np.max(np.abs(col["guidance.u"]))),
         "int_u2_m2_s3": at_exit["vehicle.int_u2"],
-        "qdot_max_W_cm2": float(np.max(col["vehicle.qdot"])) * 1e-4,
-        "h_min_km": float(np.min(col["vehicle.h"])) * 1e-3,
-        "apogee_alt_km": at_exit["vehicle.apogee_alt"] * 1e-3,
+        "qdot_max_W_m2": float(np.max(col["vehicle.qdot"])),
+        "h_min_m": float(np.min(col["vehicle.h"])),
+        "apogee_alt_m": at_exit["vehicle.apogee_alt"],
         "dv_circ_m_s": at_exit["vehicle.dv_circ"],
         "solve_time_s": float(solve[0]) if solve is not None else math.nan,
     }
@@ -155,21 +156,23 @@ def write_table(table, path: Path) -> None:
 
 
 def format_table(table) -> str:
-    """The table as aligned text for the terminal (h km, v m/s, gamma mrad, heating W/cm^2)."""
-    head = (f"{'law':<22}{'t_exit s':>9}{'dv m/s':>9}{'dgam mrad':>10}{'|u|max':>8}{'int u2':>8}"
-            f"{'qdot max':>9}{'hmin km':>9}{'apogee km':>10}{'dv_circ':>8}{'solve ms':>9}")
+    """The table as aligned text for the terminal; the header gives each column's unit (heating
+    in W/m^2 as in the files; altitudes converted to km, flight-path angle to mrad, solve time to ms)."""
+    head = (f"{'law':<22}{'t_exit s':>9}{'dv m/s':>9}{'dgam mrad':>10}{'|u|max m/s2':>12}{'int u2 m2/s3':>13}"
+            f"{'qdot max W/m2':>14}{'hmin km':>9}{'apogee km':>10}{'dv_circ m/s':>12}{'solve ms':>9}")
     lines = [head]
     for r in table:
         lines.append(f"{r['law']:<22}{r['t_exit_s']:9.2f}{r['dv_exit_m_s']:9.3f}"
-                     f"{r['dgamma_exit_rad'] * 1e3:10.4f}{r['u_abs_max_m_s2']:8.3f}{r['int_u2_m2_s3']:8.2f}"
-                     f"{r['qdot_max_W_cm2']:9.2f}{r['h_min_km']:9.3f}{r['apogee_alt_km']:10.1f}"
-                     f"{r['dv_circ_m_s']:8.2f}{r['solve_time_s'] * 1e3:9.1f}")
+                     f"{r['dgamma_exit_rad'] * 1e3:10.4f}{r['u_abs_max_m_s2']:12.3f}{r['int_u2_m2_s3']:13.2f}"
+                     f"{r['qdot_max_W_m2']:14.0f}{r['h_min_m'] * 1e-3:9.3f}{r['apogee_alt_m'] * 1e-3:10.1f}"
+                     f"{r['dv_circ_m_s']:12.2f}{r['solve_time_s'] * 1e3:9.1f}")
     return "\n".join(lines)
 
 
 PANELS = (("vehicle.h", "altitude [km]", 1e-3), ("vehicle.v", "speed [m/s]", 1.0),
           ("vehicle.gamma", "flight-path angle [mrad]", 1e3), ("guidance.u", "command u [m/s^2]", 1.0),
-          ("vehicle.qdot", "heating [W/cm^2]", 1e-4))
+          ("vehicle.qdot", "heating [W/m^2]", 1.0))
+"""(signal, axis label with the plotted unit, factor from the SI value to it) of comparison.png."""
 
 
 def plot_overlay(series, path: Path, title: str) -> None:

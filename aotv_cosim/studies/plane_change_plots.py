@@ -28,8 +28,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from aotv_cosim.guidance import mae, mae_solution  # noqa: E402
 from aotv_cosim.guidance.plane_change_optimal import solve_optimal  # noqa: E402
 from aotv_cosim.physics import mrrv  # noqa: E402
+from aotv_cosim.shipped import scenario  # noqa: E402
 
-SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "plane_change_mae_guided.json"
+SCENARIO = scenario("plane_change_mae_guided.json")
 ENTRY = mae.State(mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
 TARGETS = mae.Targets(60.0e3, math.radians(1.0), math.radians(20.0))
 END_WINDOW = 40.0
@@ -159,11 +160,12 @@ def guided_figures(out: Path, guided: dict, v_f: float, opt):
     return files
 
 
-def make_all(out: Path):
-    """Write every figure into out (created); returns the file names."""
+def make_all(out: Path, scenario_path: Path = SCENARIO):
+    """Write every figure into out (created), the guided run from `scenario_path`; returns the
+    file names."""
     out.mkdir(parents=True, exist_ok=True)
     files = open_loop_figures(out)
-    files += guided_figures(out, *run_guided(out), solve_optimal(n_points=1001))
+    files += guided_figures(out, *run_guided(out, Path(scenario_path)), solve_optimal(n_points=1001))
     return files
 
 

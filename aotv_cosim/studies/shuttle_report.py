@@ -21,10 +21,11 @@ import numpy as np  # noqa: E402
 
 from aotv_cosim.physics import shuttle_trajectory as st  # noqa: E402
 from aotv_cosim.physics.shuttle_pitch import FT  # noqa: E402
-from aotv_cosim.engine.runner import run_scenario  # noqa: E402
-from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
+from aotv_cosim.runner import run_scenario  # noqa: E402
+from aotv_cosim.scenario import load_scenario  # noqa: E402
+from aotv_cosim.shipped import scenarios_dir  # noqa: E402
 
-SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+SCENARIOS = scenarios_dir()
 LAWS = ("feedforward", "fl", "lqr", "adaptive")
 THESIS = [f"{law}_{alt}" for alt in ("400kft", "150kft") for law in LAWS] + ["lqr_asymptotic_150kft"]
 SATURATION = ["saturation_fl", "saturation_lqr_open", "saturation_lqr_feedback",

@@ -1,0 +1,94 @@
+"""The variables of an FMU or of every FMU of a wiring, as a table (`aotv-cosim describe`).
+
+One row per variable: causality, variability, type, unit, start value, declared min and max
+and description, as the modelDescription states them (a missing min/max is None: no range
+declared). For a wiring the table also names the component and gives `value`: what the wiring
+(or a scenario's overrides) sets, or the source of a connected input ('<- vehicle.h').
+"""
+
+from pathlib import Path
+
+import pandas as pd
+
+from aotv_cosim.errors import InputError
+
+COLUMNS = ("variable", "causality", "variability", "type", "unit", "start", "min", "max", "description")
+
+
+def _typed(text, type_):
+    """A modelDescription attribute (a string) as a number of the variable's type."""
+    if text is None:
+        return None
+    if type_ == "Real":
+        return float(text)
+    if type_ == "Integer":
+        return int(text)
+    if type_ == "Boolean":
+        return text in ("true", "1")
+    return text
+
+
+def fmu_rows(info) -> list:
+    """One dict per variable of an FmuInfo (system.read_fmu), in declaration order."""
+    rows = []
+    for v in info.model_description.modelVariables:
+        declared = v.declaredType
+        low = v.min if v.min is not None else getattr(declared, "min", None)
+        high = v.max if v.max is not None else getattr(declared, "max", None)
+        rows.append({"variable": v.name, "causality": v.causality, "variability": v.variability,
+                     "type": v.type, "unit": info.variables[v.name].unit, "start": _typed(v.start, v.type),
+                     "min": _typed(low, v.type), "max": _typed(high, v.type),
+                     "description": v.description or ""})
+    return rows
+
+
+def describe(target) -> pd.DataFrame:
+    """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a wiring or a
+    scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
+    from aotv_cosim.scenario import Scenario, load_scenario
+    from aotv_cosim.system import System, load_system, read_fmu, resolve_fmu
+
+    if isinstance(target, Scenario):
+        return _system_table(target.system)
+    if isinstance(target, System):
+        return _system_table(target)
+    text = str(target)
+    path = Path(text)
+    if path.suffix == ".fmu" or (not path.suffix and not path.exists()):
+        fmu = resolve_fmu(text, Path.cwd(), file=text, entry="FMU")
+        return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS))
+    if not path.is_file():
+        raise InputError("file not found", file=text,
+                         fix="give an FMU name of this package, a .fmu, a wiring or a scenario file")
+    if path.suffix != ".ssp" and "system" in _document(path):
+        return _system_table(load_scenario(path).system)
+    return _system_table(load_system(path))
+
+
+def _document(path) -> dict:
+    """The JSON object in `path`, or {} if it is none (the wiring loader then says what is wrong)."""
+    from aotv_cosim.documents import strict_json
+
+    try:
+        doc = strict_json(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return {}
+    return doc if isinstance(doc, dict) else {}
+
+
+def _system_table(system) -> pd.DataFrame:
+    sources = system.source_of()
+    rows = []
+    for comp in system.components.values():
+        for row in fmu_rows(comp.fmu):
+            name = row["variable"]
+            value = comp.parameters.get(name)
+            if (comp.name, name) in sources:
+                value = "<- " + ".".join(sources[(comp.name, name)])
+            rows.append({"component": comp.name, **row, "value": value})
+    return pd.DataFrame(rows, columns=["component", *COLUMNS, "value"])
+
+
+def format_table(frame: pd.DataFrame) -> str:
+    """The table as aligned text, blank where a value is not declared."""
+    return frame.astype(object).where(frame.notna(), "").to_string(index=False)
