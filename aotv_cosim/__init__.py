@@ -4,7 +4,7 @@ The public Python API (``aotv_cosim.api``): ``run``, ``montecarlo``, ``describe`
 ``Result`` they return; see the README's "From Python".
 
 This top-level module must stay import-free: the FMUs bundle ``aotv_cosim/__init__.py`` together
-with the ``physics`` and ``guidance`` subpackages and ``fmu_slave.py`` (see ``fmu_build.RUNTIME``),
+with the ``physics``, ``guidance`` and ``fmu`` subpackages (see ``aotv_cosim.fmu.build.RUNTIME``),
 and must run where only numpy and scipy are installed. So the API is looked up on first use
 (PEP 562 module ``__getattr__``), not imported here.
 """
@@ -15,15 +15,11 @@ __all__ = ["run", "montecarlo", "describe", "Result", "__version__"]
 
 
 def __getattr__(name):
-    """The API names, imported on first use (``montecarlo`` is the callable subpackage)."""
-    if name in ("run", "describe", "Result"):
+    """The API names, imported on first use."""
+    if name in ("run", "montecarlo", "describe", "Result"):
         from aotv_cosim import api
 
         return getattr(api, name)
-    if name == "montecarlo":
-        import importlib
-
-        return importlib.import_module("aotv_cosim.montecarlo")
     raise AttributeError(f"module 'aotv_cosim' has no attribute {name!r}")
 
 

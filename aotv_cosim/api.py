@@ -4,7 +4,7 @@ Everything returns pandas DataFrames with the unit of every column (`.units`, an
 DataFrame's `attrs["units"]`), taken from the FMUs' modelDescriptions. Nothing here installs a
 signal handler or exits the interpreter: a run stopped by Ctrl-C (KeyboardInterrupt) returns a
 Result with status 'interrupted', and any number of calls can be made in one interpreter (a
-notebook). Bad input raises `aotv_cosim.errors.InputError` with the same one-line message the
+notebook). Bad input raises `aotv_cosim.engine.errors.InputError` with the same one-line message the
 command line prints.
 """
 
@@ -13,9 +13,9 @@ import os
 import tempfile
 from pathlib import Path
 
-from aotv_cosim.errors import InputError
-from aotv_cosim.fmu_table import describe
-from aotv_cosim.result import Campaign, Result
+from aotv_cosim.engine.errors import InputError
+from aotv_cosim.fmu.describe import describe
+from aotv_cosim.engine.result import Campaign, Result
 
 __all__ = ["run", "montecarlo", "describe", "Result", "Campaign"]
 
@@ -30,7 +30,7 @@ def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots
     (the time series in `formats`, "csv" and/or "parquet", summary.json, and the PNG plots if
     `plots`).
     """
-    from aotv_cosim.runner import simulate, write_run
+    from aotv_cosim.engine.runner import simulate, write_run
 
     loaded = _scenario(scenario, set, start, stop, step)
     if out is None:
@@ -54,8 +54,8 @@ def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None
     """
     import pandas as pd
 
-    from aotv_cosim.montecarlo import run_campaign
-    from aotv_cosim.scenario import Scenario
+    from aotv_cosim.campaigns import run_campaign
+    from aotv_cosim.engine.scenario import Scenario
 
     path = scenario.path if isinstance(scenario, Scenario) else Path(scenario)
     if workers is None:
@@ -71,8 +71,8 @@ def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None
 
 def _scenario(scenario, sets, start, stop, step):
     """A loaded Scenario with the overrides applied (a path is loaded with them)."""
-    from aotv_cosim.scenario import Scenario, _check_times, load_scenario
-    from aotv_cosim.system import load_system
+    from aotv_cosim.engine.scenario import Scenario, _check_times, load_scenario
+    from aotv_cosim.engine.system import load_system
 
     if not isinstance(scenario, Scenario):
         return load_scenario(scenario, sets, step, start, stop)

@@ -15,7 +15,9 @@ from pathlib import Path
 
 import click
 
-from aotv_cosim.errors import AotvError, SimulationError, ValidationFailed
+from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
+from aotv_cosim.engine.errors import AotvError, InputError, SimulationError, ValidationFailed
+from aotv_cosim.engine.paths import writable_file, writable_folder
 
 DEFAULT_OUT = Path("results")
 
@@ -164,7 +166,7 @@ def _print_expectations(results):
 
 
 def _run_one(scenario, out_dir, plots, formats=("csv",)):
-    from aotv_cosim.runner import run_scenario
+    from aotv_cosim.engine.runner import run_scenario
 
     bar, update = _progress_bar(scenario)
     try:
@@ -208,8 +210,8 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
 
     def body():
         loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
-        summary, out_dir = _run_one(loaded, Path(out) if out else DEFAULT_OUT / Path(scenario).stem,
-                                    not no_plots, _FORMATS[series_format])
+        out_dir = writable_folder(Path(out) if out else DEFAULT_OUT / Path(scenario).stem)
+        summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         _print_summary(summary, out_dir)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
@@ -222,24 +224,27 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
 
 
 @main.command()
-@click.argument("paths", nargs=-1, type=click.Path(exists=True))
-@click.option("--out", type=click.Path(file_okay=False), help="Base output folder [results/check].")
+@click.argument("paths", nargs=-1, type=UserPath(exists=True))
+@click.option("--out", type=UserPath(file_okay=False), help="Base output folder [results/check].")
 @_time_options
 def check(paths, out, start, stop):
     """Run every scenario with expectations under PATHS [scenarios/] and compare.
 
     Every scenario found is loaded and validated before the first one runs; each result line
     starts with its N/M count."""
-    from aotv_cosim.scenario import load_scenario
-
-    files = []
-    for p in paths or ("scenarios",):
-        p = Path(p)
-        files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
+    from aotv_cosim.engine.scenario import load_scenario
 
     def body():
+        files = []
+        for p in paths or ("scenarios",):
+            p = Path(p)
+            if p.is_dir() and not os.access(p, os.R_OK | os.X_OK):
+                raise InputError("cannot list the folder: permission denied", file=p,
+                                 fix="give a folder you may read")
+            files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
         loaded = _with_builds(lambda: [load_scenario(f, start=start, stop=stop) for f in files])
         candidates = [s for s in loaded if s.expectations or s.skipped]
+        writable_folder(Path(out or DEFAULT_OUT / "check"))
         failed, t0 = 0, time.perf_counter()
         for k, scenario in enumerate(candidates, 1):
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
@@ -279,7 +284,7 @@ def validate(files):
 
 def _with_builds(load):
     """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
-    from aotv_cosim.build_progress import BuildProgress
+    from aotv_cosim.fmu.build_progress import BuildProgress
 
     with BuildProgress():
         return load()
@@ -313,7 +318,7 @@ def describe(target):
     """Print the variables of an FMU (a name of this package or a .fmu file), or of every FMU of a
     WIRING, scenario or .ssp file: causality, variability, type, unit, start, declared min and
     max, description (for a wiring also the value it sets or the source of a connected input)."""
-    from aotv_cosim.fmu_table import describe as table, format_table
+    from aotv_cosim.fmu.describe import describe as table, format_table
 
     _guard(lambda: click.echo(format_table(_with_builds(lambda: table(target)))))
 
@@ -322,8 +327,8 @@ def describe(target):
 @click.option("--out", type=UserPath(file_okay=False), help="Put the FMUs here instead of the cache.")
 def build_fmus(out):
     """Build every FMU of fmus_src (only those whose sources changed)."""
-    from aotv_cosim import fmu_build
-    from aotv_cosim.build_progress import BuildProgress
+    from aotv_cosim.fmu import build as fmu_build
+    from aotv_cosim.fmu.build_progress import BuildProgress
 
     def body():
         names = fmu_build.available_fmus()
@@ -348,11 +353,16 @@ def build_fmus(out):
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.montecarlo.checks import check_reachable, check_resumable
-    from aotv_cosim.montecarlo import run_campaign
+    from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.engine.scenario import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
+        writable_folder(out_dir)
+        if resume:
+            check_resumable(out_dir)
+        if scheduler:
+            check_reachable(scheduler)
         summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, resume=resume,
                                                     sets=parse_sets(sets) or None, start=start, stop=stop))
@@ -411,20 +421,20 @@ def figures():
 
 
 def _shipped(name):
-    from aotv_cosim.shipped import scenario
+    from aotv_cosim.studies.shipped import scenario
 
     return str(scenario(name))
 
 
 @figures.command("seed000")
-@click.option("--out", type=click.Path(file_okay=False), default="results/seed000_figures", show_default=True)
-@click.option("--scenarios", type=click.Path(file_okay=False), help="Folder of the seed-000 scenarios "
+@click.option("--out", type=UserPath(file_okay=False), default="results/seed000_figures", show_default=True)
+@click.option("--scenarios", type=UserPath(file_okay=False), help="Folder of the seed-000 scenarios "
               "[the shipped scenarios].")
 def figures_seed000(out, scenarios):
     """Seed-000 thesis figures: altitude, speed, flight-path angle, lift command and heating against
     time for every law (nominal entry and atmosphere), and the Table 8.1 comparison (table and
     figure); prints the table (runs 8 laws twice and 11 scenarios, about a minute)."""
-    from aotv_cosim.seed000_figures import make_all
+    from aotv_cosim.studies.seed000_figures import make_all
 
     def body():
         files, table = _with_builds(lambda: make_all(Path(out), scenarios,
@@ -437,8 +447,8 @@ def figures_seed000(out, scenarios):
 
 
 @figures.command("seed001")
-@click.option("--out", type=click.Path(file_okay=False), default="results/seed001_figures", show_default=True)
-@click.option("--scenario", type=click.Path(dir_okay=False), help="The guided run "
+@click.option("--out", type=UserPath(file_okay=False), default="results/seed001_figures", show_default=True)
+@click.option("--scenario", type=UserPath(dir_okay=False), help="The guided run "
               "[the shipped plane_change_mae_guided.json].")
 def figures_seed001(out, scenario):
     """Seed-001 report figures 3.4-3.19: gamma, speed, costates, lambda, bank, altitude; guided against optimal."""
@@ -449,22 +459,22 @@ def figures_seed001(out, scenario):
 
 
 @figures.command("seed002")
-@click.argument("run_dir", required=False, type=click.Path(exists=True, file_okay=False))
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [RUN_DIR, or "
+@click.argument("run_dir", required=False, type=UserPath(exists=True, file_okay=False))
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [RUN_DIR, or "
               "results/seed002_figures without it].")
-@click.option("--scenario", type=click.Path(dir_okay=False), help="Without RUN_DIR, the run to make first "
+@click.option("--scenario", type=UserPath(dir_okay=False), help="Without RUN_DIR, the run to make first "
               "[the shipped entry_ideal_combined.json].")
 def figures_seed002(run_dir, out, scenario):
     """Seed-002 paper figures 1-6 of a finished entry-tracking run in RUN_DIR (from `aotv-cosim run
     scenarios/entry_*.json`): ground track, errors against Mach, alpha and bank with their bands,
     altitude, drag. Without RUN_DIR the ideal-plant combined case is run first (into OUT/run)."""
-    from aotv_cosim.entry_plots import plot
+    from aotv_cosim.studies.entry_plots import plot
 
     def body():
         folder, target = run_dir, out
         if run_dir is None:
-            from aotv_cosim.runner import run_scenario
-            from aotv_cosim.scenario import load_scenario
+            from aotv_cosim.engine.runner import run_scenario
+            from aotv_cosim.engine.scenario import load_scenario
 
             target = Path(out or "results/seed002_figures")
             folder = target / "run"

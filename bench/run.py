@@ -200,8 +200,8 @@ def cpu_ms_per_run(repeats, runs=20):
     """Median over `repeats` batches of the CPU time of one campaign run (ms), in this process on
     FMUs reused between runs as a worker does (the first run, which instantiates and solves, is
     left out)."""
-    from aotv_cosim.montecarlo.draws import draw
-    from aotv_cosim.montecarlo.worker import Runner
+    from aotv_cosim.campaigns.draws import draw
+    from aotv_cosim.campaigns.worker import Runner
 
     runner = Runner(CAMPAIGN)
     draws = [draw(runner.scenario.dispersions, 0, k) for k in range(runs)]
@@ -216,7 +216,7 @@ def cpu_ms_per_run(repeats, runs=20):
 
 
 def target_montecarlo(runs, eff_runs, repeats):
-    from aotv_cosim.montecarlo import run_campaign
+    from aotv_cosim.campaigns import run_campaign
 
     print(f"4. Monte Carlo, {CAMPAIGN.name} (seed-000 robust law, density factor +-20% uniform)")
     print(f"     CPU per run, one process, FMUs reused: {cpu_ms_per_run(repeats):.1f} ms")

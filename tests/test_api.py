@@ -11,8 +11,8 @@ import pandas as pd
 import pytest
 
 import aotv_cosim
-from aotv_cosim.errors import InputError
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.scenario import load_scenario
 
 from conftest import NOMINAL, ROOT, SCENARIOS, WIRING
 
@@ -112,7 +112,7 @@ def test_describe_an_fmu_and_a_wiring():
 
 def test_describe_shows_declared_ranges(tmp_path):
     """An FMU declaring min/max (none of this package's do) shows them, typed."""
-    from aotv_cosim import fmu_build
+    from aotv_cosim.fmu import build as fmu_build
 
     source = fmu_build.ensure_fmu("LiftActuator")
     with zipfile.ZipFile(source) as z:

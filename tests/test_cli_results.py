@@ -10,10 +10,10 @@ import pytest
 from click.testing import CliRunner
 from tqdm import tqdm
 
-from aotv_cosim import fmu_build
+from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.cli import _finish_bar, main
-from aotv_cosim.compare import format_table, summarize
-from aotv_cosim.scenario import load_scenario
+from aotv_cosim.studies.compare import format_table, summarize
+from aotv_cosim.engine.scenario import load_scenario
 
 from conftest import NOMINAL, SCENARIOS, WIRING, write_json
 

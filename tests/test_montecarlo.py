@@ -11,9 +11,9 @@ import pyarrow.parquet as pq
 import pytest
 
 from aotv_cosim.engine.errors import InputError
-from aotv_cosim.montecarlo import run_campaign
-from aotv_cosim.montecarlo.draws import draw
-from aotv_cosim.montecarlo.report import ellipse_3sigma
+from aotv_cosim.campaigns import run_campaign
+from aotv_cosim.campaigns.draws import draw
+from aotv_cosim.campaigns.report import ellipse_3sigma
 from aotv_cosim.engine.scenario import Dispersion, load_scenario
 from conftest import SCENARIOS, write_json
 

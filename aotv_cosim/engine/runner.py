@@ -6,12 +6,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aotv_cosim import __version__, plots
-from aotv_cosim.errors import InputError
-from aotv_cosim.master import Master, signals_to_read
-from aotv_cosim.results import (TimeSeriesWriter, evaluate_expectations, statistics,
+from aotv_cosim import __version__
+from aotv_cosim.engine import plots
+from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.master import Master, signals_to_read
+from aotv_cosim.engine.results import (TimeSeriesWriter, evaluate_expectations, statistics,
                                 write_json_atomically)
-from aotv_cosim.series import SeriesTable, units_of, write_parquet
+from aotv_cosim.engine.series import SeriesTable, units_of, write_parquet
 
 FORMATS = ("csv", "parquet")
 """Time series files a run can write: timeseries.csv (as the run goes) and timeseries.parquet."""

@@ -35,7 +35,7 @@ BUILD_INFO = "resources/aotv_cosim_build.txt"
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
-"done" after (the command line's progress, aotv_cosim.build_progress)."""
+"done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
 BUILD_FORMAT = "2: explicit variability"
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 

@@ -9,7 +9,7 @@ import concurrent.futures as cf
 import math
 import multiprocessing
 
-from aotv_cosim.montecarlo.worker import run_batch
+from aotv_cosim.campaigns.worker import run_batch
 
 
 def crashed_row(columns, run, values, error) -> dict:

@@ -20,7 +20,7 @@ import dataclasses
 import math
 from pathlib import Path
 
-from aotv_cosim.shipped import scenarios_dir
+from aotv_cosim.studies.shipped import scenarios_dir
 
 QUANTITIES = (("guidance.a", "a", "m/s2"), ("guidance.b", "b", "m/s3"), ("guidance.tf", "tf'", "s"),
               ("vehicle.int_abs_u", "int |u| dt", "m/s"))
@@ -30,7 +30,7 @@ QUANTITIES = (("guidance.a", "a", "m/s2"), ("guidance.b", "b", "m/s3"), ("guidan
 def laws(out: Path, scenarios: Path, progress=None) -> list:
     """Fly every law of scenarios/aotv_compare.json undispersed into out/laws and as the file
     says into out/dispersed; returns the files."""
-    from aotv_cosim.compare import load_comparison, run_comparison
+    from aotv_cosim.studies.compare import load_comparison, run_comparison
 
     comparison = load_comparison(scenarios / "aotv_compare.json")
     nominal = dataclasses.replace(comparison, parameters={},
@@ -44,8 +44,8 @@ def laws(out: Path, scenarios: Path, progress=None) -> list:
 
 def table_8_1(scenarios: Path, progress=None) -> list:
     """[{row, K, quantity, unit, thesis, measured, rel_error, passed}] of the Table 8.1 scenarios."""
-    from aotv_cosim.runner import simulate
-    from aotv_cosim.scenario import load_scenario
+    from aotv_cosim.engine.runner import simulate
+    from aotv_cosim.engine.scenario import load_scenario
 
     rows = []
     for path in sorted(scenarios.glob("aotv_table8_1_row*.json")):

@@ -7,7 +7,7 @@ force-include), so the figure commands find the runs they draw from any folder a
 
 from pathlib import Path
 
-PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE_DIR = Path(__file__).resolve().parents[1]
 
 
 def scenarios_dir() -> Path:

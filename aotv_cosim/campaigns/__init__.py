@@ -10,28 +10,9 @@
   rows.csv and rows.parquet are sorted by run, identical to an uninterrupted campaign's.
 - `report`: percentiles (summary.json) and plots (histograms, exit-state scatter, 3-sigma ellipse).
 - `units`: the unit of every column (summary.json `units`, rows.parquet field metadata).
-
-Calling the package, `aotv_cosim.montecarlo(scenario, runs, ...)`, is the Python API's campaign
-(`aotv_cosim.api.montecarlo`).
 """
 
-
-import sys
-import types
-
-from aotv_cosim.montecarlo.campaign import run_campaign
+from aotv_cosim.campaigns.campaign import run_campaign
 
 __all__ = ["run_campaign"]
 
-
-class _CallablePackage(types.ModuleType):
-    """This package is also the API function: `aotv_cosim.montecarlo(scenario, runs, ...)` is
-    `aotv_cosim.api.montecarlo` (a package and a function cannot share the name otherwise)."""
-
-    def __call__(self, scenario, runs, **options):
-        from aotv_cosim.api import montecarlo
-
-        return montecarlo(scenario, runs, **options)
-
-
-sys.modules[__name__].__class__ = _CallablePackage

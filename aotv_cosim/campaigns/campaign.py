@@ -4,11 +4,11 @@ import time
 from pathlib import Path
 
 from aotv_cosim.engine.errors import InputError
-from aotv_cosim.montecarlo import backends, report
-from aotv_cosim.montecarlo.draws import draw
-from aotv_cosim.montecarlo.store import RowStore
-from aotv_cosim.montecarlo.units import column_units
-from aotv_cosim.montecarlo.worker import columns
+from aotv_cosim.campaigns import backends, report
+from aotv_cosim.campaigns.draws import draw
+from aotv_cosim.campaigns.store import RowStore
+from aotv_cosim.campaigns.units import column_units
+from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
 

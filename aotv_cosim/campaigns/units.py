@@ -1,6 +1,6 @@
 """The unit of every campaign column (rows.csv, rows.parquet, summary.json statistics)."""
 
-from aotv_cosim.series import TIME_UNIT
+from aotv_cosim.engine.series import TIME_UNIT
 
 NO_UNIT = {"run": "", "status": "", "error": "", "steps": "1"}
 """Columns that are not physical quantities: an index, texts, a count."""

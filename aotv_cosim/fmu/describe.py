@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from aotv_cosim.errors import InputError
+from aotv_cosim.engine.errors import InputError
 
 COLUMNS = ("variable", "causality", "variability", "type", "unit", "start", "min", "max", "description")
 
@@ -45,8 +45,8 @@ def fmu_rows(info) -> list:
 def describe(target) -> pd.DataFrame:
     """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a wiring or a
     scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
-    from aotv_cosim.scenario import Scenario, load_scenario
-    from aotv_cosim.system import System, load_system, read_fmu, resolve_fmu
+    from aotv_cosim.engine.scenario import Scenario, load_scenario
+    from aotv_cosim.engine.system import System, load_system, read_fmu, resolve_fmu
 
     if isinstance(target, Scenario):
         return _system_table(target.system)
@@ -67,7 +67,7 @@ def describe(target) -> pd.DataFrame:
 
 def _document(path) -> dict:
     """The JSON object in `path`, or {} if it is none (the wiring loader then says what is wrong)."""
-    from aotv_cosim.documents import strict_json
+    from aotv_cosim.engine.documents import strict_json
 
     try:
         doc = strict_json(Path(path).read_text(encoding="utf-8"))

@@ -9,7 +9,7 @@ without it (a run builds what its wiring names) it counts FMUs built and the tim
 
 import sys
 
-from aotv_cosim import fmu_build
+from aotv_cosim.fmu import build as fmu_build
 
 
 class BuildProgress:
