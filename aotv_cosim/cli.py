@@ -352,7 +352,7 @@ def build_fmus(out):
 @_time_options
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
-    from aotv_cosim.montecarlo.checks import check_reachable, check_resumable
+    from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.engine.scenario import parse_sets
 
