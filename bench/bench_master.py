@@ -15,6 +15,7 @@ from pathlib import Path
 
 from fmpy.fmi2 import FMU2Slave
 
+from aotv_cosim.engine import ordering
 from aotv_cosim.engine.fmi_instance import extracted
 from aotv_cosim.engine.master import Master
 from aotv_cosim.studies.reference import reference_run
@@ -54,7 +55,7 @@ def naive_us_per_step(scenario, clock=time.perf_counter):
         dst.setReal([ivr], src.getReal([ovr]))
     for slave in slaves.values():
         slave.exitInitializationMode()
-    order = [slaves[n] for n in system.gauss_seidel_order()]
+    order = [slaves[n] for n in ordering.gauss_seidel_order(system)]
     recorded = [(slaves[s.split(".")[0]], system.variable(s).vr) for s in recorded_columns(scenario)]
     n = round((scenario.stop - scenario.start) / scenario.step)
     rows = []

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from aotv_cosim.engine import ordering
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.studies.reference import reference_run
 from aotv_cosim.engine.runner import run_scenario
@@ -21,7 +22,7 @@ def nominal(tmp_path_factory):
 
 def test_gauss_seidel_order_follows_feedthrough():
     """atmosphere.rho feeds through from h, actuator.position from command: both follow their sources."""
-    order = load_scenario(NOMINAL).system.gauss_seidel_order()
+    order = ordering.gauss_seidel_order(load_scenario(NOMINAL).system)
     assert order.index("vehicle") < order.index("atmosphere")
     assert order.index("guidance") < order.index("actuator")
 
@@ -46,7 +47,7 @@ def test_measured_drag_feeds_a_consumer_from_the_current_density(tmp_path, wirin
     the density change over a step, ~1e-3 relative)."""
     scenario = load_scenario(_with_accelerometer(wiring_doc, scenario_doc, tmp_path))
     system = scenario.system
-    sweep = system.sweep({n: list(c.fmu.feedthrough) for n, c in system.components.items()})
+    sweep = ordering.sweep(system, {n: list(c.fmu.feedthrough) for n, c in system.components.items()})
     assert sweep.order.index("atmosphere") < sweep.order.index("accelerometer")
     assert sweep.fresh["accelerometer"] == ["command"]
     assert sweep.delayed["vehicle"] == ["rho", "u_lift"]  # the parasite drag does not depend on u_lift

@@ -5,8 +5,8 @@ enter initialization mode, and connected values are propagated output -> input i
 respects each FMU's declared initial dependencies, so a guidance law sees the vehicle's entry
 state and the vehicle sees the first command before the first step.
 
-Stepping (Gauss-Seidel, default): components are stepped in `System.gauss_seidel_order()` and
-values propagate in a topological order of variables (`System.sweep`): connections plus each
+Stepping (Gauss-Seidel, default): components are stepped in `ordering.gauss_seidel_order` and
+values propagate in a topological order of variables (`ordering.sweep`): connections plus each
 FMU's declared output -> input feedthrough. An input whose source output is already final at
 the new communication point ('fresh') is set just before its component steps; the others
 ('delayed') are set as soon as their source is final, after their component stepped. Outputs
@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from aotv_cosim.engine import ordering
 from aotv_cosim.engine.errors import InputError, SimulationError
 from aotv_cosim.engine.fmi_instance import FmuInstance
 
@@ -205,7 +206,7 @@ class Master:
         signals = connected + [sig for sig in self.signals if sig not in connected]
         by_comp = {name: [sig.split(".", 1)[1] for sig in signals if sig.split(".", 1)[0] == name]
                    for name in system.components}
-        sweep = system.sweep(by_comp, jacobi=s.algorithm == "jacobi")
+        sweep = ordering.sweep(system, by_comp, jacobi=s.algorithm == "jacobi")
         order = sweep.order
         # Outputs re-read after the step go last, so that their re-reads are views of the buffer.
         reread = {(comp, o) for _, comp, names in self._sweep_actions(sweep) if _ == "get"
@@ -238,7 +239,7 @@ class Master:
             plan.before = calls(sweep.before[name])
             plan.delayed = call("set", name, sweep.delayed[name], alias=False)
         self.finish = calls(sweep.finish)
-        self.start = calls(system.start_actions(by_comp))
+        self.start = calls(ordering.start_actions(system, by_comp))
         self.plans = plans
         self.order = order
 
@@ -297,7 +298,7 @@ class Master:
 
         `finish` are the bound calls that set the inputs not yet set with their sources' values
         at the new communication point and re-read the outputs that feed through from them, in
-        the order of `System.sweep`. With held inputs (default) `extrapolate` is None. With
+        the order of `ordering.sweep`. With held inputs (default) `extrapolate` is None. With
         extrapolated inputs it is `extrapolate(t, h, h_next)`, which then sets each delayed
         input to the mean over the coming step of the line through its source's last two
         values, v + (h_next / 2) (v - v_prev) / h: the coupling error becomes second order in

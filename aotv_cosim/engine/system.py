@@ -1,4 +1,6 @@
-"""Wiring file -> validated System: components, FMUs, parameter values, connections, order.
+"""Wiring file -> validated System: components, FMUs, parameter values, connections.
+
+FMU files are read by `fmu_file`; the stepping order derived from the connections is `ordering`'s.
 
 Checks made on load, each reported with the file and the entry: unknown component or variable,
 causality (an output feeds an input), type and declared unit agreement, at most one source per
@@ -11,50 +13,14 @@ depends on the vehicle's altitude: only chains of same-instant dependencies do.
 
 import difflib
 import math
-import zipfile
 from dataclasses import dataclass, field
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 
-from fmpy import read_model_description
-
-from aotv_cosim.fmu import build as fmu_build
-from aotv_cosim.engine.archives import check_fmu_members, check_sizes
 from aotv_cosim.engine.documents import check_document, load_document
 from aotv_cosim.engine.errors import AotvError, InputError, raise_if_any
-from aotv_cosim.engine.paths import regular_file, resolved
-
-
-@dataclass(frozen=True)
-class Variable:
-    """One scalar variable of an FMU, as its modelDescription declares it."""
-
-    name: str
-    vr: int
-    type: str
-    causality: str
-    variability: str
-    unit: str
-    start: object
-    description: str
-
-
-@dataclass
-class FmuInfo:
-    """An FMU file and what its modelDescription says."""
-
-    path: Path
-    model_description: object
-    variables: dict
-    feedthrough: dict
-    initial_feedthrough: dict
-
-    @property
-    def guid(self):
-        return self.model_description.guid
-
-    @property
-    def model_identifier(self):
-        return self.model_description.coSimulation.modelIdentifier
+from aotv_cosim.engine.fmu_file import FmuInfo, Variable, read_fmu, resolve_fmu
+from aotv_cosim.engine.paths import resolved
+from aotv_cosim.ssp.load import read_ssp
 
 
 @dataclass
@@ -102,256 +68,6 @@ class System:
         deps = self.components[comp].fmu.feedthrough.get(output, ())
         return {i for i in deps if any(c.target == comp and c.input == i for c in self.connections)}
 
-    def gauss_seidel_order(self):
-        """Component order for Gauss-Seidel stepping.
-
-        A connection is 'immediate' when its target input feeds through (same instant) to an
-        output of the target that is itself connected onward: its source is stepped first so
-        that the chain can be fresh. Such a constraint is dropped when the source output itself
-        depends at the same instant on an output of the target (vehicle.rho from atmosphere.rho
-        from vehicle.h): that input can never be set before its component steps, whatever the
-        order. Components are sorted topologically over the remaining immediate connections,
-        ties kept in file order; a cycle left (components feeding each other through different
-        variables, no loop at variable level) is broken at its first component in file order.
-        Any order is consistent: `sweep` only makes an input fresh once its source is final.
-        """
-        sources = self.source_of()
-        connected = {(c.source, c.output) for c in self.connections}
-        steps = {}
-
-        def stepped_before(comp, out):
-            """Components whose step `comp.out` depends on at the same instant."""
-            if (comp, out) not in steps:
-                deps = {comp}
-                for inp in self.connected_feedthrough(comp, out):
-                    deps |= stepped_before(*sources[(comp, inp)])
-                steps[(comp, out)] = deps
-            return steps[(comp, out)]
-
-        after = {name: set() for name in self.components}
-        for c in self.connections:
-            fmu = self.components[c.target].fmu
-            immediate = any(c.input in deps and (c.target, out) in connected
-                            for out, deps in fmu.feedthrough.items())
-            if immediate and c.target not in stepped_before(c.source, c.output):
-                after[c.target].add(c.source)
-        order, placed = [], set()
-        while len(order) < len(after):
-            ready = [n for n in after if n not in placed and after[n] <= placed]
-            name = ready[0] if ready else next(n for n in after if n not in placed)
-            order.append(name)
-            placed.add(name)
-        return order
-
-    def sweep(self, read, jacobi=False):
-        """The calls of one communication step, by variable name (a `Sweep`).
-
-        read: {component: outputs the master reads}, every connected output among them.
-        Gauss-Seidel: components step in `gauss_seidel_order()`. An input is fresh (set just
-        before its component steps) when its source output can be made final first: its
-        component has stepped and every connected input it feeds through from holds its value
-        at the new point (set, with the outputs re-read, in `before`). Other inputs are delayed:
-        set once their source is final, after their component stepped. After a component steps,
-        its outputs that feed through from an input not yet set are stale; they are re-read once
-        those inputs are set. So values propagate in a topological order of variables
-        (connections plus each FMU's declared output->input feedthrough) and a chain
-        vehicle.rho -> vehicle.drag_acc -> guidance.drag sees the drag from the new density.
-        Jacobi: no input is fresh; after all steps every input is set, then every output with
-        connected feedthrough is re-read once (OSP libcosim's scheme).
-        """
-        order = self.gauss_seidel_order()
-        flow = _Flow(self, read)
-        if jacobi:
-            for name in order:
-                flow.step(name, [])
-            return Sweep(order, {n: [] for n in order}, {n: [] for n in order},
-                         flow.jacobi_finish(order), flow.delayed(order, {}))
-        fresh, before = {}, {}
-        for name in order:
-            fresh[name] = [i for i in flow.inputs[name] if flow.can_finalize(*flow.sources[(name, i)])]
-            before[name] = flow.settle({flow.sources[(name, i)] for i in fresh[name]}, order)
-            flow.step(name, fresh[name])
-        return Sweep(order, fresh, before, flow.settle_all(order), flow.delayed(order, fresh))
-
-    def start_actions(self, read):
-        """The calls that make every value consistent after initialization, all outputs read.
-
-        Every component counts as stepped with no input set; the values then propagate in
-        topological order of variables as at the end of a sweep.
-        """
-        flow = _Flow(self, read)
-        order = list(self.components)
-        for name in order:
-            flow.stepped.add(name)
-            flow.stale |= {(name, o) for o in read[name] if self.connected_feedthrough(name, o)}
-        return flow.settle_all(order)
-
-
-@dataclass
-class Sweep:
-    """One communication step as calls: actions are ("set", comp, inputs) or ("get", comp, outputs).
-
-    order: components in stepping order; fresh: {comp: inputs set just before it steps};
-    before: {comp: actions run before that}; finish: actions after the last step; delayed:
-    {comp: connected inputs that are not fresh}.
-    """
-
-    order: list
-    fresh: dict
-    before: dict
-    finish: list
-    delayed: dict
-
-
-class _Flow:
-    """Which values are final at the new communication point while a sweep is built."""
-
-    def __init__(self, system, read):
-        self.system = system
-        self.read = read
-        self.sources = system.source_of()
-        self.inputs = {n: [i for (t, i) in self.sources if t == n] for n in system.components}
-        self.stepped, self.set, self.stale = set(), set(), set()
-
-    def step(self, name, fresh):
-        """`name` steps with `fresh` set; its outputs feeding through from unset inputs are stale."""
-        self.set |= {(name, i) for i in fresh}
-        self.stepped.add(name)
-        self.stale |= {(name, o) for o in self.read[name]
-                       if any((name, i) not in self.set for i in self.system.connected_feedthrough(name, o))}
-
-    def can_finalize(self, comp, out):
-        return comp in self.stepped and all(
-            (comp, i) in self.set or self.can_finalize(*self.sources[(comp, i)])
-            for i in self.system.connected_feedthrough(comp, out))
-
-    def settle(self, outputs, order):
-        """Actions making `outputs` final: their unset inputs set and they re-read, in waves."""
-        inputs, needed, todo = set(), set(), [o for o in outputs if o in self.stale]
-        while todo:
-            comp, out = todo.pop()
-            if (comp, out) in needed:
-                continue
-            needed.add((comp, out))
-            for i in self.system.connected_feedthrough(comp, out):
-                if (comp, i) not in self.set:
-                    inputs.add((comp, i))
-                    if self.sources[(comp, i)] in self.stale:
-                        todo.append(self.sources[(comp, i)])
-        return self._waves(inputs, needed, order)
-
-    def settle_all(self, order):
-        """Actions making every value final: every input not yet set, every stale output."""
-        inputs = {(n, i) for n in order for i in self.inputs[n] if (n, i) not in self.set}
-        return self._waves(inputs, set(self.stale), order)
-
-    def _waves(self, inputs, outputs, order):
-        actions = []
-        while inputs or outputs:
-            ready = {i for i in inputs if self.sources[i] not in self.stale}
-            actions += _grouped("set", ready, order)
-            self.set |= ready
-            inputs -= ready
-            final = {o for o in outputs
-                     if all((o[0], i) in self.set for i in self.system.connected_feedthrough(*o))}
-            actions += _grouped("get", final, order)
-            self.stale -= final
-            outputs -= final
-            if not ready and not final:
-                raise InputError("outputs depend on each other at the same instant",
-                                 file=self.system.path, entry="connections",
-                                 fix="break the feedthrough cycle")
-        return actions
-
-    def jacobi_finish(self, order):
-        inputs = {(n, i) for n in order for i in self.inputs[n]}
-        stale = set(self.stale)
-        self.set |= inputs
-        self.stale.clear()
-        return _grouped("set", inputs, order) + _grouped("get", stale, order)
-
-    def delayed(self, order, fresh):
-        return {n: [i for i in self.inputs[n] if i not in fresh.get(n, ())] for n in order}
-
-
-def _grouped(kind, pairs, order):
-    """One action per component, in `order`, over the (component, name) pairs."""
-    return [(kind, n, sorted(name for c, name in pairs if c == n))
-            for n in order if any(c == n for c, _ in pairs)]
-
-
-def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
-    """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
-    if ref.endswith(".fmu"):
-        return resolved(base / ref, file=file, entry=entry, what=".fmu file")
-    names = fmu_build.available_fmus()
-    if ref not in names:
-        close = difflib.get_close_matches(ref, names, n=3)
-        hint = f"did you mean {' or '.join(close)}? " if close else ""
-        raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
-                         fix=f"{hint}give a path to a .fmu file (relative to the wiring file) "
-                             f"or one of {', '.join(names)}")
-    return fmu_build.ensure_fmu(ref)
-
-
-def check_archive(path: Path, *, file=None, entry=None) -> None:
-    """Refuse an FMU or SSP archive whose member names are absolute or climb out with '..', or
-    whose sizes exceed the limits of `archives.check_sizes` (checked before any extraction).
-
-    The error names `file` and `entry` (the document that refers to the archive) when given,
-    else the archive itself. A file that is not a zip archive raises zipfile.BadZipFile.
-    """
-    with zipfile.ZipFile(path) as archive:
-        check_sizes(archive, path, file=file, entry=entry)
-        for name in archive.namelist():
-            pure = PurePosixPath(name.replace("\\", "/"))
-            drive = bool(pure.parts) and ":" in pure.parts[0]
-            if pure.is_absolute() or ".." in pure.parts or drive:
-                raise InputError(f"member {name!r} of {Path(path).name} escapes the extraction folder",
-                                 file=file or path, entry=entry,
-                                 fix="rebuild the archive with relative member names")
-
-
-def read_fmu(path: Path, *, file, entry) -> FmuInfo:
-    """Read an FMU's modelDescription into an FmuInfo; InputError if missing or corrupt."""
-    try:
-        regular_file(path, what=".fmu file", file=file, entry=entry)
-    except InputError as exc:
-        raise InputError(f"FMU {exc.cause}", file=file, entry=entry,
-                         fix="correct the path (relative to the wiring file) or build the FMU") from None
-    try:
-        check_archive(path, file=file, entry=entry)
-        md = read_model_description(str(path))
-    except InputError:
-        raise
-    except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
-        raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
-                         fix="give a valid FMI 2.0 co-simulation FMU")
-    if md.fmiVersion != "2.0" or md.coSimulation is None:
-        raise InputError(f"{path.name} is not an FMI 2.0 co-simulation FMU", file=file, entry=entry,
-                         fix="export the FMU for FMI 2.0 co-simulation")
-    check_fmu_members(path, md.coSimulation.modelIdentifier, file=file, entry=entry)
-    variables = {v.name: Variable(v.name, v.valueReference, v.type, v.causality, v.variability,
-                                  v.unit or (v.declaredType.unit if v.declaredType else None) or "",
-                                  v.start, v.description or "")
-                 for v in md.modelVariables}
-    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    feedthrough = _dependencies(md.outputs, inputs)
-    initial = _dependencies(md.initialUnknowns, inputs)
-    return FmuInfo(path, md, variables, feedthrough, {**feedthrough, **initial})
-
-
-def _dependencies(unknowns, inputs):
-    """{output: set of inputs it depends on}; no dependencies attribute means all inputs."""
-    deps = {}
-    for u in unknowns:
-        if u.dependencies is None:
-            deps[u.variable.name] = set(inputs)
-        else:
-            deps[u.variable.name] = {d.name for d in u.dependencies if d.causality == "input"}
-    return deps
-
-
 def parse_connection(text: str, *, file=None, entry=None) -> Connection:
     """'source.output -> target.input' (as the schema checked it) -> Connection."""
     sides = [s.strip() for s in text.split("->")]
@@ -397,8 +113,6 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
     """
     path = resolved(path, what="wiring file")
     if path.suffix == ".ssp":
-        from aotv_cosim.ssp.load import read_ssp
-
         doc, base, _ = read_ssp(path)
         check_document(doc, "wiring", path)
     else:

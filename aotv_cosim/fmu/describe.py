@@ -46,7 +46,8 @@ def describe(target) -> pd.DataFrame:
     """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a wiring or a
     scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
     from aotv_cosim.engine.scenario import Scenario, load_scenario
-    from aotv_cosim.engine.system import System, load_system, read_fmu, resolve_fmu
+    from aotv_cosim.engine.fmu_file import read_fmu, resolve_fmu
+    from aotv_cosim.engine.system import System, load_system
 
     if isinstance(target, Scenario):
         return _system_table(target.system)

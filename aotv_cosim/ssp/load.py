@@ -19,6 +19,7 @@ from xml.etree import ElementTree
 
 from aotv_cosim.engine.archives import extract_to
 from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.fmu_file import check_archive
 from aotv_cosim.engine.paths import regular_file
 from aotv_cosim.ssp import units
 from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
@@ -31,7 +32,6 @@ FMU_TYPE = "application/x-fmu-sharedlibrary"
 def extract(path: Path) -> Path:
     """The folder holding the extracted archive `path` (extracted once per distinct content)."""
     from aotv_cosim.fmu.build import cache_dir
-    from aotv_cosim.engine.system import check_archive
 
     path = Path(path)
     regular_file(path, what=".ssp file")

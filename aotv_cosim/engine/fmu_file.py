@@ -1,0 +1,123 @@
+"""FMU files as the engine reads them: resolving a wiring's FMU reference, checking the archive,
+and the modelDescription's variables and per-variable feedthrough (`FmuInfo`).
+
+Feedthrough is read per variable from ModelStructure (`Outputs` dependencies; none declared means
+the output depends on every input); initial feedthrough adds `InitialUnknowns`.
+"""
+
+import difflib
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path, PurePosixPath
+
+from fmpy import read_model_description
+
+from aotv_cosim.engine.archives import check_fmu_members, check_sizes
+from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.paths import regular_file, resolved
+from aotv_cosim.fmu import build as fmu_build
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One scalar variable of an FMU, as its modelDescription declares it."""
+
+    name: str
+    vr: int
+    type: str
+    causality: str
+    variability: str
+    unit: str
+    start: object
+    description: str
+
+
+@dataclass
+class FmuInfo:
+    """An FMU file and what its modelDescription says."""
+
+    path: Path
+    model_description: object
+    variables: dict
+    feedthrough: dict
+    initial_feedthrough: dict
+
+    @property
+    def guid(self):
+        return self.model_description.guid
+
+    @property
+    def model_identifier(self):
+        return self.model_description.coSimulation.modelIdentifier
+
+
+def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
+    """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
+    if ref.endswith(".fmu"):
+        return resolved(base / ref, file=file, entry=entry, what=".fmu file")
+    names = fmu_build.available_fmus()
+    if ref not in names:
+        close = difflib.get_close_matches(ref, names, n=3)
+        hint = f"did you mean {' or '.join(close)}? " if close else ""
+        raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
+                         fix=f"{hint}give a path to a .fmu file (relative to the wiring file) "
+                             f"or one of {', '.join(names)}")
+    return fmu_build.ensure_fmu(ref)
+
+
+def check_archive(path: Path, *, file=None, entry=None) -> None:
+    """Refuse an FMU or SSP archive whose member names are absolute or climb out with '..', or
+    whose sizes exceed the limits of `archives.check_sizes` (checked before any extraction).
+
+    The error names `file` and `entry` (the document that refers to the archive) when given,
+    else the archive itself. A file that is not a zip archive raises zipfile.BadZipFile.
+    """
+    with zipfile.ZipFile(path) as archive:
+        check_sizes(archive, path, file=file, entry=entry)
+        for name in archive.namelist():
+            pure = PurePosixPath(name.replace("\\", "/"))
+            drive = bool(pure.parts) and ":" in pure.parts[0]
+            if pure.is_absolute() or ".." in pure.parts or drive:
+                raise InputError(f"member {name!r} of {Path(path).name} escapes the extraction folder",
+                                 file=file or path, entry=entry,
+                                 fix="rebuild the archive with relative member names")
+
+
+def read_fmu(path: Path, *, file, entry) -> FmuInfo:
+    """Read an FMU's modelDescription into an FmuInfo; InputError if missing or corrupt."""
+    try:
+        regular_file(path, what=".fmu file", file=file, entry=entry)
+    except InputError as exc:
+        raise InputError(f"FMU {exc.cause}", file=file, entry=entry,
+                         fix="correct the path (relative to the wiring file) or build the FMU") from None
+    try:
+        check_archive(path, file=file, entry=entry)
+        md = read_model_description(str(path))
+    except InputError:
+        raise
+    except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
+        raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
+                         fix="give a valid FMI 2.0 co-simulation FMU")
+    if md.fmiVersion != "2.0" or md.coSimulation is None:
+        raise InputError(f"{path.name} is not an FMI 2.0 co-simulation FMU", file=file, entry=entry,
+                         fix="export the FMU for FMI 2.0 co-simulation")
+    check_fmu_members(path, md.coSimulation.modelIdentifier, file=file, entry=entry)
+    variables = {v.name: Variable(v.name, v.valueReference, v.type, v.causality, v.variability,
+                                  v.unit or (v.declaredType.unit if v.declaredType else None) or "",
+                                  v.start, v.description or "")
+                 for v in md.modelVariables}
+    inputs = [v.name for v in md.modelVariables if v.causality == "input"]
+    feedthrough = _dependencies(md.outputs, inputs)
+    initial = _dependencies(md.initialUnknowns, inputs)
+    return FmuInfo(path, md, variables, feedthrough, {**feedthrough, **initial})
+
+
+def _dependencies(unknowns, inputs):
+    """{output: set of inputs it depends on}; no dependencies attribute means all inputs."""
+    deps = {}
+    for u in unknowns:
+        if u.dependencies is None:
+            deps[u.variable.name] = set(inputs)
+        else:
+            deps[u.variable.name] = {d.name for d in u.dependencies if d.causality == "input"}
+    return deps
