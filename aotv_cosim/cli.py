@@ -5,13 +5,13 @@ exit status 2 for bad input and 1 for a failed run or failed expectations; an un
 one line too, unless --debug asks for the traceback.
 """
 
-import contextlib
 import signal
 import sys
 from pathlib import Path
 
 import click
 
+from aotv_cosim import interrupts
 from aotv_cosim.errors import AotvError, ValidationFailed
 
 DEFAULT_OUT = Path("results")
@@ -43,42 +43,10 @@ def _guard(function):
         sys.exit(3)
 
 
-class _Stop:
-    """The first SIGINT/SIGTERM received during a command (None if none)."""
-
-    signum = None
-
-
-def _interrupt(signum, frame):
-    """Stop the run at a safe point: at once if the master's loop is executing, else at its next
-    progress report. Raising anywhere else could land inside an FMU's own Python code (pythonfmu
-    runs in this interpreter), which would turn the interruption into an FMU failure, or inside
-    the result writers. Later signals are ignored so the partial results get written."""
-    from aotv_cosim.master import Interrupted
-
-    if _Stop.signum is not None:
-        return
-    _Stop.signum = signum
-    if frame is not None and frame.f_code.co_name == "_loop" and frame.f_code.co_filename.endswith("master.py"):
-        raise Interrupted(signal.Signals(signum).name)
-
-
-@contextlib.contextmanager
-def _stoppable():
-    """Install the SIGINT/SIGTERM handler for one command, restoring the previous ones after."""
-    _Stop.signum = None
-    previous = {n: signal.signal(n, _interrupt) for n in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
-
-
 def _exit_status(summary):
     """0 if completed, 128 + signal number if interrupted (shell convention), else 1."""
     if summary["status"] == "interrupted":
-        return 128 + (_Stop.signum or signal.SIGINT)
+        return 128 + (interrupts.received() or signal.SIGINT)
     return 0 if summary["status"] == "completed" else 1
 
 
@@ -97,10 +65,6 @@ def _progress_bar(scenario):
                file=sys.stderr, leave=False, bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s [{elapsed}<{remaining}]")
 
     def update(t):
-        if _Stop.signum is not None:  # a signal arrived while an FMU or the writers were busy
-            from aotv_cosim.master import Interrupted
-
-            raise Interrupted(signal.Signals(_Stop.signum).name)
         bar.n = round(t - scenario.start, 6)
         bar.refresh() if bar.n >= bar.total else bar.update(0)
 
@@ -182,7 +146,7 @@ def run(scenario, out, sets, step, no_plots):
             click.echo("error: expectations failed (see above)", err=True)
             sys.exit(1)
 
-    with _stoppable():
+    with interrupts.deferred():
         _guard(body)
 
 
@@ -216,7 +180,7 @@ def check(paths, out):
         click.echo(f"{len(candidates) - failed} passed, {failed} failed")
         sys.exit(1 if failed else 0)
 
-    with _stoppable():
+    with interrupts.deferred():
         _guard(body)
 
 

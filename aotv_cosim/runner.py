@@ -3,9 +3,10 @@
 import platform
 from pathlib import Path
 
-from aotv_cosim import __version__, plots
+from aotv_cosim import __version__, interrupts, plots
 from aotv_cosim.master import Master, signals_to_read
-from aotv_cosim.results import (TimeSeriesWriter, evaluate_expectations, statistics,
+from aotv_cosim.outdir import claimed
+from aotv_cosim.results import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
                                 write_json_atomically)
 
 
@@ -19,9 +20,18 @@ def recorded_columns(scenario):
 
 
 def run_scenario(scenario, out_dir, progress=None, make_plots=True):
-    """Run and write results; returns the summary dict (also in out_dir/summary.json)."""
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    """Run and write results; returns the summary dict (also in out_dir/summary.json).
+
+    The folder is claimed for the run (`outdir.claimed`: InputError if unusable or busy) and
+    SIGINT/SIGTERM are deferred (`interrupts`): a signal ends the run before its next step, or,
+    arriving after the last step, still marks it interrupted (no plots). A result file that
+    cannot be written fails the run (`OutputError`); if summary.json itself cannot be written,
+    that OutputError is raised."""
+    with interrupts.deferred(), claimed(out_dir):
+        return _run_into(scenario, Path(out_dir), progress, make_plots)
+
+
+def _run_into(scenario, out_dir, progress, make_plots):
     writer = None
 
     def record(times, rows):
@@ -34,11 +44,16 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
     outcome = master.run()
     _attach_fmu_log(outcome, master)
     columns = recorded_columns(scenario)
-    if writer is None:  # failed before the first row: still leave a readable, empty series
-        writer = TimeSeriesWriter(out_dir, [], {})
-        columns = []
-    writer.close()
-    times, rows = writer.table()
+    try:
+        if writer is None:  # failed before the first row: still leave a readable, empty series
+            columns = []
+            writer = TimeSeriesWriter(out_dir, [], {})
+        writer.close()
+    except OutputError as exc:
+        _output_failed(outcome, exc)
+    times, rows = writer.table() if writer is not None else ([], [])
+    if interrupts.received() and outcome.status == "completed":  # signal after the last step
+        outcome.status, outcome.stop_reason = "interrupted", f"interrupted by {interrupts.name()}"
     final, minima, maxima = statistics(columns, times, rows)
     summary = {
         "scenario": str(scenario.path),
@@ -64,13 +79,20 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True):
         "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
         "plots": [],
     }
-    if make_plots and len(times) > 1:
+    if make_plots and len(times) > 1 and outcome.status != "interrupted" and outcome.stop_reason != "output failed":
         summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
                                           scenario.path.stem)
         summary["plots"] += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
                              for spec in scenario.plots]
     write_json_atomically(out_dir / "summary.json", summary)
     return summary
+
+
+def _output_failed(outcome, exc):
+    """Record a result file that could not be written as the run's failure (unless it failed already)."""
+    if outcome.status != "failed":
+        outcome.status, outcome.error, outcome.stop_reason = "failed", str(exc), "output failed"
+        outcome.error_detail = {"component": None, "variable": None, "time": None, "message": exc.cause}
 
 
 def _attach_fmu_log(outcome, master):
