@@ -124,7 +124,7 @@ def _run_one(scenario, out_dir, plots):
 
 @main.command()
 @click.argument("scenario", type=click.Path(dir_okay=False))
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>].")
+@click.option("--out", type=click.Path(), help="Output folder [results/<scenario>].")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
@@ -242,7 +242,7 @@ def build_fmus(out):
               help="Local worker processes.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
-@click.option("--out", type=click.Path(file_okay=False), help="Output folder [results/<scenario>-mc].")
+@click.option("--out", type=click.Path(), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
@@ -258,8 +258,17 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets):
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
         click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics in summary.json")
+        if summary["status"] == "interrupted":
+            click.echo(f"  {summary['stop_reason']}: finished runs kept; --resume runs the others")
+            sys.exit(_exit_status(summary))
+        if not summary["statuses"].get("completed"):
+            first = summary["failed"][0] if summary["failed"] else {"run": "-", "error": "no run"}
+            click.echo(f"error: {scenario}: runs: none of the {runs} runs completed (run {first['run']}: "
+                       f"{' '.join(str(first['error']).split())}); see the error column of rows.csv", err=True)
+            sys.exit(1)
 
-    _guard(body)
+    with interrupts.deferred():
+        _guard(body)
 
 
 @main.command("export-ssp")

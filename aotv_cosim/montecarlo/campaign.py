@@ -3,13 +3,21 @@
 import time
 from pathlib import Path
 
+from aotv_cosim import interrupts
 from aotv_cosim.errors import InputError
+from aotv_cosim.master import Interrupted
 from aotv_cosim.montecarlo import backends, report
 from aotv_cosim.montecarlo.draws import draw
 from aotv_cosim.montecarlo.store import RowStore
 from aotv_cosim.montecarlo.worker import columns
+from aotv_cosim.outdir import claimed
 from aotv_cosim.results import write_json_atomically
 from aotv_cosim.scenario import load_scenario
+
+
+CAMPAIGN_FILES = ("rows.csv", "rows.csv.part", "rows.parquet", "rows.parquet.part", "campaign.json",
+                  "summary.json", "summary.json.part")
+"""What a campaign writes (besides its plots) and so must not find there as folders."""
 
 
 def batches_of(items, workers):
@@ -25,16 +33,24 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
 
     scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
     (or a distributed.Client). The rows do not depend on either choice.
+    SIGINT/SIGTERM (deferred, see `interrupts`) stop the campaign: the finished runs are kept
+    (rows.csv, rows.parquet), summary.json says status 'interrupted', and --resume runs the rest.
     """
     scenario_path = Path(scenario_path).resolve()
     scenario = load_scenario(scenario_path, sets)
     if not scenario.dispersions:
         raise InputError("the scenario declares no dispersions", file=scenario_path, entry="dispersions",
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
+    with interrupts.deferred(), claimed(out_dir, CAMPAIGN_FILES):
+        return _campaign(scenario, scenario_path, runs, Path(out_dir), workers, seed, scheduler, resume,
+                         sets, progress, make_plots)
+
+
+def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resume, sets, progress,
+              make_plots):
     names = columns(scenario)
     manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
                 "dispersions": [d.__dict__ for d in scenario.dispersions]}
-    out = Path(out_dir)
     store = RowStore(out, names, manifest, resume)
     todo = [k for k in range(runs) if k not in store.done()]
     work = [(k, draw(scenario.dispersions, seed, k)) for k in todo]
@@ -48,12 +64,17 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
 
         bar = tqdm(total=runs, initial=runs - len(todo), unit="run", desc="runs", smoothing=0.1)
     t0 = time.perf_counter()
+    status = "completed"
     try:
         for rows in source:
             for row in rows:
                 store.add(row)
             if bar is not None:
                 bar.update(len(rows))
+            if interrupts.received():
+                raise Interrupted(interrupts.name())
+    except Interrupted:
+        status = "interrupted"
     finally:
         source.close()  # on an interruption, stop the backend's pending work
         if bar is not None:
@@ -64,15 +85,16 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
     for r in rows:
         statuses[r["status"]] = statuses.get(r["status"], 0) + 1
     summary = {
+        "status": status, "stop_reason": f"interrupted by {interrupts.name()}" if status == "interrupted" else None,
         "scenario": str(scenario_path), "runs": runs, "seed": seed,
         "backend": "local" if scheduler is None else "dask", "workers": workers,
-        "runs_this_session": len(todo), "wall_time_s": wall,
-        "runs_per_s": len(todo) / wall if wall > 0 else None,
+        "runs_this_session": len(rows) - (runs - len(todo)), "wall_time_s": wall,
+        "runs_per_s": (len(rows) - (runs - len(todo))) / wall if wall > 0 else None,
         "statuses": statuses,
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
                    for r in rows if r["status"] != "completed"][:50],
         "statistics": report.statistics(rows, names),
-        "plots": report.plots(out, rows, scenario) if make_plots else [],
+        "plots": report.plots(out, rows, scenario) if make_plots and status == "completed" else [],
     }
     write_json_atomically(out / "summary.json", summary)
     return summary
