@@ -162,3 +162,51 @@ def test_signal_in_slow_fmu_code_takes_effect_at_once(tmp_path, signaller):
     assert done.returncode == 143, done.stderr
     assert len(check_whole_rows(out)) == 22
     assert json.loads((out / "summary.json").read_text())["steps"] == 21
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_signal_during_a_writer_flush(tmp_path, signaller, monkeypatch, signum):
+    """The signal lands in the middle of writing the second chunk: that chunk is written whole
+    and the run stops before the next step (2000 rows: the flush follows the 2000th)."""
+    from aotv_cosim import results
+
+    write = results.TimeSeriesWriter._write
+    calls = []
+
+    def interrupted_write(self, data):
+        calls.append(len(data))
+        if len(calls) == 3:  # header, first chunk, second chunk
+            os.kill(os.getpid(), signum)
+            sum(k * k for k in range(20000))  # the handler runs here, inside the writer
+        return write(self, data)
+
+    monkeypatch.setattr(results.TimeSeriesWriter, "_write", interrupted_write)
+    out = tmp_path / "out"
+    with _Strays() as strays:
+        rows = _interrupted(_invoke(_scenario(tmp_path, signaller), out), out, signum)
+    assert strays.count == 0 and len(rows) == 2 * CHUNK
+
+
+def test_a_time_without_its_row_is_dropped_at_the_flush():
+    """Without deferred signals a KeyboardInterrupt can land between the two appends of the
+    loop; the flush then pairs times and rows instead of failing on their lengths."""
+    import ctypes
+
+    import numpy as np
+
+    from aotv_cosim.master import Rows
+
+    class Master:
+        values = (ctypes.c_double * 2)(1.0, 2.0)
+        array = np.frombuffer(values)
+        received = []
+
+        def record(self, times, rows):
+            self.received.append((list(times), rows.tolist()))
+
+    master = Master()
+    rows = Rows(master, None)
+    rows.add(0.0)
+    rows.times.append(0.1)  # the time of a row that was never recorded
+    rows.flush()
+    assert master.received == [([0.0], [[1.0, 2.0]])] and rows.times == rows.rows == []
