@@ -48,7 +48,8 @@ CHUNK = 1000
 
 
 class Interrupted(Exception):
-    """Raised by the loop, before a step, when a SIGINT/SIGTERM was recorded (`interrupts`)."""
+    """Raised before the next step (the loop) or batch (a campaign) once a SIGINT/SIGTERM was
+    recorded (`interrupts`)."""
 
 
 @dataclass
