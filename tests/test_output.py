@@ -187,6 +187,22 @@ def test_real_full_disk(tmp_path):
         subprocess.run(["umount", str(mount)], check=True)
 
 
+def test_read_only_folder_is_refused_before_the_run(tmp_path):
+    """A read-only tmpfs as --out (needs root to mount; root ignores permission bits, not this)."""
+    mount = tmp_path / "ro"
+    mount.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(mount)],
+                      capture_output=True).returncode:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        result = _run("run", _relay_scenario(tmp_path, 1.0), "--out", mount, "--no-plots")
+        assert result.exit_code == 2, result.output
+        _one_error(result, f"error: {mount}: --out: the output folder is not writable: Read-only file system; "
+                           "choose another --out")
+    finally:
+        subprocess.run(["umount", str(mount)], check=True)
+
+
 def test_export_ssp_leaves_no_truncated_archive(tmp_path, monkeypatch):
     from aotv_cosim.ssp import export
 
