@@ -34,10 +34,11 @@ def campaign(tmp_path_factory):
 
 
 def _start(scenario, out, *extra):
+    """The campaign in a process group of its own (so a signal can go to the whole group)."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     return subprocess.Popen([sys.executable, "-m", "aotv_cosim", "montecarlo", str(scenario), "--runs",
                              str(RUNS), "--workers", "2", "--out", str(out), *extra], cwd=ROOT, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
 
 
 def _wait_for_rows(out, process, rows=3, timeout=120.0):
@@ -75,14 +76,20 @@ def reference(campaign, tmp_path_factory):
     return (out / "rows.csv").read_bytes()
 
 
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
-def test_interrupted_campaign_says_so_and_resumes_exactly(campaign, reference, tmp_path, signum):
+@pytest.mark.parametrize("signum, group", [(signal.SIGINT, True), (signal.SIGTERM, False)],
+                         ids=["SIGINT-to-the-group", "SIGTERM-to-the-parent"])
+def test_interrupted_campaign_says_so_and_resumes_exactly(campaign, reference, tmp_path, signum, group):
+    """SIGINT as Ctrl-C sends it (to every process of the group: workers ignore it, the parent
+    stops them), SIGTERM as a job scheduler sends it (to the parent only)."""
     out = tmp_path / "out"
     process = _start(campaign, out)
     try:
         _wait_for_rows(out, process)
         workers = _children(process.pid)
-        process.send_signal(signum)
+        if group:
+            os.killpg(process.pid, signum)
+        else:
+            process.send_signal(signum)
         stdout, stderr = process.communicate(timeout=60)
     finally:
         process.kill()
