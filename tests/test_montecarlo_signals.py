@@ -76,7 +76,8 @@ def reference(campaign, tmp_path_factory):
     return (out / "rows.csv").read_bytes()
 
 
-@pytest.mark.parametrize("signum, group", [(signal.SIGINT, True), (signal.SIGTERM, False)],
+@pytest.mark.parametrize("signum, group", [pytest.param(signal.SIGINT, True, marks=pytest.mark.slow),
+                                           (signal.SIGTERM, False)],
                          ids=["SIGINT-to-the-group", "SIGTERM-to-the-parent"])
 def test_interrupted_campaign_says_so_and_resumes_exactly(campaign, reference, tmp_path, signum, group):
     """SIGINT as Ctrl-C sends it (to every process of the group: workers ignore it, the parent
