@@ -59,4 +59,5 @@ def deferred():
         _depth -= 1
         if previous is not None:
             for number, handler in previous.items():
-                signal.signal(number, handler)
+                if handler is not None:  # None: installed outside Python, cannot be put back
+                    signal.signal(number, handler)
