@@ -6,7 +6,6 @@ exit status 2 for bad input and 1 for a failed run or failed expectations; an un
 one line too, unless --debug asks for the traceback.
 """
 
-import contextlib
 import os
 import signal
 import sys
@@ -16,6 +15,7 @@ from pathlib import Path
 import click
 
 from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
+from aotv_cosim.engine import interrupts
 from aotv_cosim.engine.errors import AotvError, InputError, SimulationError, ValidationFailed
 from aotv_cosim.engine.paths import writable_file, writable_folder
 
@@ -48,42 +48,10 @@ def _guard(function):
         sys.exit(3)
 
 
-class _Stop:
-    """The first SIGINT/SIGTERM received during a command (None if none)."""
-
-    signum = None
-
-
-def _interrupt(signum, frame):
-    """Stop the run at a safe point: at once if the master's loop is executing, else at its next
-    progress report. Raising anywhere else could land inside an FMU's own Python code (pythonfmu
-    runs in this interpreter), which would turn the interruption into an FMU failure, or inside
-    the result writers. Later signals are ignored so the partial results get written."""
-    from aotv_cosim.engine.master import Interrupted
-
-    if _Stop.signum is not None:
-        return
-    _Stop.signum = signum
-    if frame is not None and frame.f_code.co_name == "_loop" and frame.f_code.co_filename.endswith("master.py"):
-        raise Interrupted(signal.Signals(signum).name)
-
-
-@contextlib.contextmanager
-def _stoppable():
-    """Install the SIGINT/SIGTERM handler for one command, restoring the previous ones after."""
-    _Stop.signum = None
-    previous = {n: signal.signal(n, _interrupt) for n in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
-
-
 def _exit_status(summary):
     """0 if completed, 128 + signal number if interrupted (shell convention), else 1."""
     if summary["status"] == "interrupted":
-        return 128 + (_Stop.signum or signal.SIGINT)
+        return 128 + (interrupts.received() or signal.SIGINT)
     return 0 if summary["status"] == "completed" else 1
 
 
@@ -102,10 +70,6 @@ def _progress_bar(scenario):
                file=sys.stderr, leave=False, bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s [{elapsed}<{remaining}]")
 
     def update(t):
-        if _Stop.signum is not None:  # a signal arrived while an FMU or the writers were busy
-            from aotv_cosim.engine.master import Interrupted
-
-            raise Interrupted(signal.Signals(_Stop.signum).name)
         bar.n = round(t - scenario.start, 6)
         bar.refresh() if bar.n >= bar.total else bar.update(0)
 
@@ -194,7 +158,7 @@ _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")
 
 @main.command()
 @click.argument("scenario", type=UserPath(dir_okay=False))
-@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>].")
+@click.option("--out", type=UserPath(), help="Output folder [results/<scenario>].")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 @_time_options
@@ -219,7 +183,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
             click.echo("error: expectations failed (see above)", err=True)
             sys.exit(1)
 
-    with _stoppable():
+    with interrupts.deferred():
         _guard(body)
 
 
@@ -259,7 +223,7 @@ def check(paths, out, start, stop):
         click.echo(f"{len(candidates) - failed} passed, {failed} failed in {time.perf_counter() - t0:.1f} s")
         sys.exit(1 if failed else 0)
 
-    with _stoppable():
+    with interrupts.deferred():
         _guard(body)
 
 
@@ -346,7 +310,7 @@ def build_fmus(out):
               help="Local worker processes.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
-@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-mc].")
+@click.option("--out", type=UserPath(), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @_time_options
@@ -370,8 +334,17 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
         click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json")
+        if summary["status"] == "interrupted":
+            click.echo(f"  {summary['stop_reason']}: finished runs kept; --resume runs the others")
+            sys.exit(_exit_status(summary))
+        if not summary["statuses"].get("completed"):
+            first = summary["failed"][0] if summary["failed"] else {"run": "-", "error": "no run"}
+            click.echo(f"error: {scenario}: runs: none of the {runs} runs completed (run {first['run']}: "
+                       f"{' '.join(str(first['error']).split())}); see the error column of rows.csv", err=True)
+            sys.exit(1)
 
-    _guard(body)
+    with interrupts.deferred():
+        _guard(body)
 
 
 @main.command("export-ssp")

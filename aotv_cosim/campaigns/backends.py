@@ -8,8 +8,15 @@ one on a fresh pool; a single run that still fails is returned as a row with sta
 import concurrent.futures as cf
 import math
 import multiprocessing
+import os
 
+from aotv_cosim.engine import interrupts
+from aotv_cosim.engine.master import Interrupted
+from aotv_cosim.campaigns.orphans import terminate, worker_started
 from aotv_cosim.campaigns.worker import run_batch
+
+POLL = 0.2
+"""Seconds between two looks at the interruption flag while waiting for local batches."""
 
 
 def crashed_row(columns, run, values, error) -> dict:
@@ -27,7 +34,18 @@ def _retry_plan(batch):
 def _pool(workers):
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=context)
+    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=worker_started,
+                                  initargs=(os.getpid(),))
+
+
+def _finished(futures):
+    """Yield futures as they finish; raise Interrupted within POLL s of a SIGINT/SIGTERM."""
+    pending = set(futures)
+    while pending:
+        done, pending = cf.wait(pending, timeout=POLL, return_when=cf.FIRST_COMPLETED)
+        if interrupts.received():
+            raise Interrupted(interrupts.name())
+        yield from done
 
 
 def local(scenario_path, sets, batches, workers, columns, times=None):
@@ -35,7 +53,9 @@ def local(scenario_path, sets, batches, workers, columns, times=None):
 
     A crash breaks the whole pool and fails every batch in flight, so a failed batch is retried
     on a new pool as single runs, and a single run that fails again is run alone in a pool of
-    its own: only a run that then fails is the one that crashes.
+    its own: only a run that then fails is the one that crashes. On a SIGINT/SIGTERM (see
+    `interrupts`) it raises Interrupted and kills the workers: the runs in flight are not
+    recorded, and a resumed campaign runs them again.
     """
     queue = [(b, False) for b in batches]
     while queue:
@@ -48,7 +68,7 @@ def local(scenario_path, sets, batches, workers, columns, times=None):
             pool = _pool(size)
             try:
                 futures = {pool.submit(run_batch, scenario_path, sets, b, times): b for b in group}
-                for future in cf.as_completed(futures):
+                for future in _finished(futures):
                     batch = futures[future]
                     try:
                         yield future.result()
@@ -58,7 +78,10 @@ def local(scenario_path, sets, batches, workers, columns, times=None):
                         else:
                             split = _retry_plan(batch)
                             queue += [(b, False) for b in split] if split else [(batch, True)]
-            finally:  # interrupted: batches not started are dropped, running ones end
+            except BaseException:  # interrupted, or the consumer stopped: running batches are dropped
+                terminate(pool)
+                raise
+            finally:
                 pool.shutdown(wait=True, cancel_futures=True)
 
 

@@ -3,14 +3,22 @@
 import time
 from pathlib import Path
 
+from aotv_cosim.engine import interrupts
 from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.campaigns import backends, report
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
+from aotv_cosim.engine.outdir import claimed
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
+
+
+CAMPAIGN_FILES = ("rows.csv", "rows.csv.part", "rows.parquet", "rows.parquet.part", "campaign.json",
+                  "summary.json", "summary.json.part")
+"""What a campaign writes (besides its plots) and so must not find there as folders."""
 
 
 def batches_of(items, workers):
@@ -27,6 +35,8 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
     scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
     (or a distributed.Client). The rows do not depend on either choice. start, stop (s)
     override the scenario's times (--start, --stop). The summary's `units` give every column's.
+    SIGINT/SIGTERM (deferred, see `interrupts`) stop the campaign: the finished runs are kept
+    (rows.csv, rows.parquet), summary.json says status 'interrupted', and --resume runs the rest.
     """
     scenario_path = Path(scenario_path).resolve()
     scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
@@ -34,12 +44,18 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
     if not scenario.dispersions:
         raise InputError("the scenario declares no dispersions", file=scenario_path, entry="dispersions",
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
+    with interrupts.deferred(), claimed(out_dir, CAMPAIGN_FILES):
+        return _campaign(scenario, scenario_path, runs, Path(out_dir), workers, seed, scheduler, resume,
+                         sets, progress, make_plots, times)
+
+
+def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resume, sets, progress,
+              make_plots, times):
     names = columns(scenario)
     manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
                 "dispersions": [d.__dict__ for d in scenario.dispersions],
-                **({"start": start, "stop": stop} if times else {})}
+                **({"start": times[0], "stop": times[1]} if times else {})}
     units = column_units(scenario, names)
-    out = Path(out_dir)
     store = RowStore(out, names, manifest, resume, units)
     todo = [k for k in range(runs) if k not in store.done()]
     work = [(k, draw(scenario.dispersions, seed, k)) for k in todo]
@@ -53,12 +69,17 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
 
         bar = tqdm(total=runs, initial=runs - len(todo), unit="run", desc="runs", smoothing=0.1)
     t0 = time.perf_counter()
+    status = "completed"
     try:
         for rows in source:
             for row in rows:
                 store.add(row)
             if bar is not None:
                 bar.update(len(rows))
+            if interrupts.received():
+                raise Interrupted(interrupts.name())
+    except Interrupted:
+        status = "interrupted"
     finally:
         source.close()  # on an interruption, stop the backend's pending work
         if bar is not None:
@@ -69,16 +90,17 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
     for r in rows:
         statuses[r["status"]] = statuses.get(r["status"], 0) + 1
     summary = {
+        "status": status, "stop_reason": f"interrupted by {interrupts.name()}" if status == "interrupted" else None,
         "scenario": str(scenario_path), "runs": runs, "seed": seed,
         "backend": "local" if scheduler is None else "dask", "workers": workers,
-        "runs_this_session": len(todo), "wall_time_s": wall,
-        "runs_per_s": len(todo) / wall if wall > 0 else None,
+        "runs_this_session": len(rows) - (runs - len(todo)), "wall_time_s": wall,
+        "runs_per_s": (len(rows) - (runs - len(todo))) / wall if wall > 0 else None,
         "statuses": statuses,
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
                    for r in rows if r["status"] != "completed"][:50],
         "statistics": report.statistics(rows, names),
         "units": units,
-        "plots": report.plots(out, rows, scenario) if make_plots else [],
+        "plots": report.plots(out, rows, scenario) if make_plots and status == "completed" else [],
     }
     write_json_atomically(out / "summary.json", summary)
     return summary

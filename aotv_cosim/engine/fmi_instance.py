@@ -185,8 +185,31 @@ class FmuInstance:
         """
         if self.broken:
             return
-        for call in (self.slave.terminate, self.slave.freeInstance):
+        for call in (self.slave.terminate, self._free):
             try:
                 call()
             except Exception:
                 pass
+
+    def _free(self):
+        """FMPy's freeInstance (fmi2FreeInstance, then unload the library), with pythonfmu's
+        interpreter state released in between.
+
+        pythonfmu 0.7 keeps `static std::shared_ptr<PyState> pyState` and also resets it from an
+        `__attribute__((destructor))` function (`finalizePythonInterpreter`). The first pythonfmu
+        library of a process defines GNU_UNIQUE libstdc++ symbols that the later ones bind to, so
+        glibc never unloads it (NODELETE): it stays until exit(), whose handlers destroy the
+        shared_ptr (the PyState is freed, the pointer is left as it was) before _dl_fini runs
+        that destructor, which releases the freed block again. The reference count it decrements
+        then lies in malloc's free-list links: 'corrupted double-linked list', exit 134, in a few
+        percent of processes (valgrind: "Invalid read ... in finalizePythonInterpreter ... freed
+        by __run_exit_handlers"). Calling the exported `finalizePythonInterpreter` here, once the
+        instance is freed, empties the shared_ptr while it is alive; both exit-time resets then
+        find it empty. Other FMUs do not export it."""
+        slave = self.slave
+        slave.fmi2FreeInstance(slave.component)
+        release = getattr(slave.dll, "finalizePythonInterpreter", None)
+        if release is not None:
+            release.restype, release.argtypes = None, []
+            release()
+        slave.freeLibrary()

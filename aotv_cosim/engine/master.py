@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from aotv_cosim.engine import ordering
+from aotv_cosim.engine import interrupts, ordering
 from aotv_cosim.engine.errors import InputError, SimulationError
 from aotv_cosim.engine.fmi_instance import FmuInstance
 
@@ -50,7 +50,8 @@ CHUNK = 1000
 
 
 class Interrupted(Exception):
-    """Raised by a signal handler to stop a run cleanly (SIGINT, SIGTERM)."""
+    """Raised before the next step (the loop) or batch (a campaign) once a SIGINT/SIGTERM was
+    recorded (`interrupts`)."""
 
 
 @dataclass
@@ -271,18 +272,20 @@ class Master:
             outcome.loop_time = clock.perf_counter() - wall0 - outcome.init_time
         except SimulationError as exc:
             outcome.status, outcome.error = "failed", str(exc)
-            outcome.stop_reason = f"failure in {getattr(exc, 'component', '?')}"
+            component = getattr(exc, "component", "?")
+            outcome.stop_reason = f"failure in {component}" if component else "output failed"
             outcome.error_detail = {"component": getattr(exc, "component", None),
                                     "variable": getattr(exc, "variable", None),
                                     "time": getattr(exc, "time", None), "message": exc.cause}
         except (KeyboardInterrupt, Interrupted):
-            outcome.status, outcome.stop_reason = "interrupted", "interrupted by a signal"
+            outcome.status = "interrupted"
+            outcome.stop_reason = f"interrupted by {interrupts.name() or 'SIGINT'}"
         finally:
             try:
                 rows.flush()
-            except SimulationError as exc:  # non-finite value found in the last chunk
+            except SimulationError as exc:  # non-finite value in the last chunk, or a write failed
                 outcome.status, outcome.error = "failed", str(exc)
-                outcome.stop_reason = "non-finite value"
+                outcome.stop_reason = "non-finite value" if exc.component else "output failed"
                 outcome.error_detail = {"component": exc.component, "variable": exc.variable,
                                         "time": exc.time, "message": exc.cause}
             for name, inst in self.instances.items():
@@ -340,9 +343,12 @@ class Master:
         keep_time, keep_row = rows.times.append, rows.rows.append
         progress = self.progress
         report_every = max(1, n_steps // 200)
+        stop_requested = interrupts.RECEIVED
         done = 0
         try:
             for k in range(n_steps):
+                if stop_requested:
+                    raise Interrupted(interrupts.name())
                 t = start + k * h
                 last = k == n_steps - 1
                 step = stop - t if last else h
@@ -420,10 +426,14 @@ class Rows:
             self.flush()
 
     def flush(self):
-        if not self.rows:
+        """Pass the kept rows on; a time without its row (a KeyboardInterrupt raised between the
+        two appends, when signals are not deferred) is dropped, so times and rows always pair."""
+        n = min(len(self.times), len(self.rows))
+        del self.times[n:], self.rows[n:]
+        if not n:
             return
         width = len(self.master.array)
-        rows = np.frombuffer(b"".join(self.rows), dtype=np.float64).reshape(len(self.rows), -1)[:, :width]
+        rows = np.frombuffer(b"".join(self.rows), dtype=np.float64).reshape(n, -1)[:, :width]
         times = np.array(self.times)
         self.times.clear()
         self.rows.clear()

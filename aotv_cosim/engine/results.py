@@ -4,20 +4,41 @@ The time series is appended chunk by chunk to ``timeseries.csv.part`` and rename
 ``timeseries.csv`` when the run ends, however it ends (completed, failed or interrupted), so a
 reader never sees a half-written final file and a failed run keeps every row computed before the
 failure. Numbers are written with 17 significant digits: exact, and byte-identical between runs.
+A chunk is written as whole rows; if the write fails (disk full), the file is cut back to its
+last whole row and the run fails with an `OutputError` naming the cause.
 """
 
+import io
 import json
 import os
 from pathlib import Path
 
 import numpy as np
 
+from aotv_cosim.engine.errors import SimulationError
+
+
+class OutputError(SimulationError):
+    """A result file could not be written (disk full, I/O error): the run fails with this cause."""
+
+    component = variable = time = None
+
+    def __init__(self, path: Path, exc: OSError):
+        super().__init__(f"cannot write {Path(path).name}: {exc.strerror or exc}", file=Path(path).parent,
+                         entry="--out", fix="free space on that disk or choose another --out")
+
 
 def write_json_atomically(path: Path, data) -> None:
-    """Write JSON to path via a temporary file and a rename."""
+    """Write JSON to path via a temporary file and a rename; on failure leave neither a
+    temporary file nor a changed `path`, and raise OutputError."""
     tmp = path.with_name(path.name + ".part")
-    tmp.write_text(json.dumps(data, indent=2, allow_nan=False, default=float) + "\n")
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "w") as f:
+            f.write(json.dumps(data, indent=2, allow_nan=False, default=float) + "\n")
+        os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise OutputError(path, exc) from exc
 
 
 class TimeSeriesWriter:
@@ -29,20 +50,42 @@ class TimeSeriesWriter:
         self.columns = list(columns)
         self.select = [index[c] for c in self.columns]
         self.times, self.chunks = [], []
-        self.file = open(self.part, "w", newline="\n")
-        self.file.write(",".join(["time"] + self.columns) + "\n")
-        self.file.flush()
+        self.whole = 0  # bytes of the file that are whole lines (header and rows)
+        try:
+            self.file = open(self.part, "wb", buffering=0)
+        except OSError as exc:
+            raise OutputError(self.part, exc) from exc
+        self._write((",".join(["time"] + self.columns) + "\n").encode())
+
+    def _write(self, data: bytes):
+        """Append whole lines; on failure cut the file back to its last whole line, raise OutputError."""
+        try:
+            view = memoryview(data)
+            while view:
+                view = view[self.file.write(view):]
+        except OSError as exc:
+            try:
+                self.file.truncate(self.whole)
+            except OSError:
+                pass
+            raise OutputError(self.part, exc) from exc
+        self.whole += len(data)
 
     def __call__(self, times, rows):
         data = np.column_stack([times, rows[:, self.select]])
-        np.savetxt(self.file, data, fmt="%.17g", delimiter=",")
-        self.file.flush()
+        text = io.StringIO()
+        np.savetxt(text, data, fmt="%.17g", delimiter=",")
+        self._write(text.getvalue().encode())
         self.times.append(times)
         self.chunks.append(data[:, 1:])
 
     def close(self):
+        """Close and rename to timeseries.csv; raises OutputError if the rename fails."""
         self.file.close()
-        os.replace(self.part, self.path)
+        try:
+            os.replace(self.part, self.path)
+        except OSError as exc:
+            raise OutputError(self.path, exc) from exc
 
     def table(self):
         """(times, rows) of everything written so far."""

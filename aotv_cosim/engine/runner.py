@@ -7,11 +7,12 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__
-from aotv_cosim.engine import plots
+from aotv_cosim.engine import interrupts, plots
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.engine.master import Master, signals_to_read
-from aotv_cosim.engine.results import (TimeSeriesWriter, evaluate_expectations, statistics,
-                                write_json_atomically)
+from aotv_cosim.engine.outdir import claimed
+from aotv_cosim.engine.results import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
+                                       write_json_atomically)
 from aotv_cosim.engine.series import SeriesTable, units_of, write_parquet
 
 FORMATS = ("csv", "parquet")
@@ -44,23 +45,29 @@ def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("cs
 def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)) -> Run:
     """Run into out_dir: the time series in `formats` (FORMATS), summary.json and the plots.
 
-    timeseries.csv is appended as the run goes; timeseries.parquet is written at the end, with
-    each field's unit in its metadata."""
+    timeseries.csv is appended as the run goes (whole rows); timeseries.parquet is written at
+    the end, with each field's unit in its metadata. The folder is claimed for the run
+    (`outdir.claimed`: InputError if unusable or busy). A result file that cannot be written
+    fails the run (`OutputError` in the summary); if summary.json itself cannot be written, that
+    OutputError is raised. An interrupted run or one whose output failed draws no plots."""
     unknown = [f for f in formats if f not in FORMATS]
     if unknown or not formats:
         raise InputError(f"unknown time series format(s) {', '.join(map(repr, unknown)) or '(none given)'}",
                          entry="formats", fix="give csv and/or parquet")
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    with claimed(out_dir):
+        return _write_into(scenario, out_dir, progress, make_plots, formats)
 
+
+def _write_into(scenario, out_dir, progress, make_plots, formats):
     def open_series(columns, index):
         return TimeSeriesWriter(out_dir, columns, index) if "csv" in formats else SeriesTable(columns, index)
 
     run = simulate(scenario, open_series, progress)
     summary, columns, times, rows = run
-    if "parquet" in formats:
+    if "parquet" in formats and summary["stop_reason"] != "output failed":
         write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary["units"])
-    if make_plots and len(times) > 1:
+    if make_plots and len(times) > 1 and summary["status"] != "interrupted" and summary["stop_reason"] != "output failed":
         summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
                                           scenario.path.stem)
         summary["plots"] += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
@@ -74,7 +81,14 @@ def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
 
     open_series(columns, index) makes the master's record callback (a `SeriesTable`, kept in
     memory, or a `TimeSeriesWriter`) once the buffer layout `index` is known; it needs `close()`
-    and `table()`. The summary has no plots."""
+    and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred (`interrupts`): a signal
+    ends the run before its next step, or, arriving after the last step, still marks it
+    interrupted."""
+    with interrupts.deferred():
+        return _simulate(scenario, open_series, progress)
+
+
+def _simulate(scenario, open_series, progress):
     writer = None
 
     def record(times, rows):
@@ -87,11 +101,16 @@ def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
     outcome = master.run()
     _attach_fmu_log(outcome, master)
     columns = recorded_columns(scenario)
-    if writer is None:  # failed before the first row: still leave a readable, empty series
-        writer = open_series([], {})
-        columns = []
-    writer.close()
-    times, rows = writer.table()
+    try:
+        if writer is None:  # failed before the first row: still leave a readable, empty series
+            columns = []
+            writer = open_series([], {})
+        writer.close()
+    except OutputError as exc:
+        _output_failed(outcome, exc)
+    times, rows = writer.table() if writer is not None else ([], [])
+    if interrupts.received() and outcome.status == "completed":  # signal after the last step
+        outcome.status, outcome.stop_reason = "interrupted", f"interrupted by {interrupts.name()}"
     final, minima, maxima = statistics(columns, times, rows)
     summary = {
         "scenario": str(scenario.path),
@@ -119,6 +138,13 @@ def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
         "plots": [],
     }
     return Run(summary, columns, times, rows)
+
+
+def _output_failed(outcome, exc):
+    """Record a result file that could not be written as the run's failure (unless it failed already)."""
+    if outcome.status != "failed":
+        outcome.status, outcome.error, outcome.stop_reason = "failed", str(exc), "output failed"
+        outcome.error_detail = {"component": None, "variable": None, "time": None, "message": exc.cause}
 
 
 def _attach_fmu_log(outcome, master):

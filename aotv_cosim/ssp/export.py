@@ -17,7 +17,9 @@ with 0 when unconnected, and wires an unconnected input connector to the source 
 connection listed before it; SSP allows bindings to name FMU variables without connectors.
 """
 
+import errno
 import io
+import os
 from pathlib import Path
 from xml.etree import ElementTree
 from xml.etree.ElementTree import Element, SubElement
@@ -48,9 +50,26 @@ def export_ssp(scenario, out) -> Path:
             ssv_sources[comp.name] = member
     members["SystemStructure.ssd"] = _checked(_ssd(scenario, sources, ssv_sources), SSD_SCHEMA,
                                               "SystemStructure.ssd")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    write_reproducible_zip(out, members)
+    _write_atomically(out, members)
     return out
+
+
+def _write_atomically(out: Path, members: dict) -> None:
+    """Write the archive to a temporary file beside `out`, then rename it over `out`: a failed
+    or interrupted write leaves no truncated archive (and an existing `out` as it was). A folder
+    that cannot take it (missing and not creatable, read-only, full) is an InputError."""
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if out.is_dir():
+            raise IsADirectoryError(errno.EISDIR, "a folder is in the way", str(out))
+        write_reproducible_zip(tmp, members)
+        os.replace(tmp, out)
+    except OSError as exc:
+        raise InputError(f"cannot write the archive: {exc.strerror or exc}", file=out, entry="-o",
+                         fix="free space on that disk, or choose a writable -o") from None
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _fmu_members(system):
