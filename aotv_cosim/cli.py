@@ -174,7 +174,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
 
     def body():
         loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
-        out_dir = writable_folder(Path(out) if out else DEFAULT_OUT / Path(scenario).stem)
+        out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         _print_summary(summary, out_dir)
         if summary["status"] != "completed":
@@ -322,7 +322,6 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
-        writable_folder(out_dir)
         if resume:
             check_resumable(out_dir)
         if scheduler:

@@ -144,9 +144,10 @@ def test_click_refusals_are_one_line(args, fragments):
 def test_unwritable_out_folders(tmp_path, where):
     out = tmp_path / "file.txt" / "out" if where == "under-a-file" else "/dev/null"
     (tmp_path / "file.txt").write_text("x")
-    one_line(["run", NOMINAL, "--out", out, "--no-plots"], "--out", "cannot write")
+    claimed = "cannot make the output folder" if where == "under-a-file" else "not a folder"  # outdir.claimed
+    one_line(["run", NOMINAL, "--out", out, "--no-plots"], "--out", claimed)
     one_line(["check", NOMINAL, "--out", out], "--out", "cannot write")
-    one_line(["montecarlo", NOMINAL, "--runs", "1", "--out", out], "--out", "cannot write")
+    one_line(["montecarlo", NOMINAL.parent / "montecarlo_robust_density.json", "--runs", "1", "--out", out], "--out", claimed)
 
 
 @pytest.mark.parametrize("where", ["under-a-file", "dev-null", "a-folder"])
