@@ -4,7 +4,8 @@ Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the 
 the adapter base classes) so it runs where aotv-cosim is not installed. The build then rewrites
 the archive so that the same sources give the same bytes: the modelDescription gets a GUID
 derived from the sources and the generated XML, no generation date, and zip entries are written
-in sorted order with a fixed timestamp. Finally `fmpy validate` must report no problem.
+in sorted order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI
+hosts (`fmu_native`). Finally `fmpy validate` must report no problem.
 """
 
 import ast
@@ -22,6 +23,7 @@ from xml.etree import ElementTree
 import pythonfmu
 from pythonfmu.builder import FmuBuilder
 
+from aotv_cosim import fmu_native
 from aotv_cosim.errors import BuildError
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -33,7 +35,7 @@ RUNTIME_PATTERNS = ("*.py", "*.csv")
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
-BUILD_FORMAT = "2: explicit variability"
+BUILD_FORMAT = "3: explicit variability, Linux binary loads in C hosts"
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -71,8 +73,10 @@ def _runtime_files():
 
 
 def source_hash(name: str) -> str:
-    """SHA-256 over the FMU's module, the bundled runtime and the pythonfmu version."""
-    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n".encode())
+    """SHA-256 over the FMU's module, the bundled runtime, the pythonfmu version and what the
+    Linux binary's patch depends on (`fmu_native.fingerprint`: the building Python's libpython)."""
+    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n"
+                            f"{fmu_native.fingerprint()}\n".encode())
     for path in [fmus_src_dir() / f"{name}.py", *_runtime_files()]:
         rel = path.relative_to(path.parents[1] if path.parent.name == "fmus_src" else PACKAGE_DIR.parent)
         digest.update(f"{rel.as_posix()}\n".encode())
@@ -157,6 +161,7 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
     with zipfile.ZipFile(raw) as src:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
+    fmu_native.patch_linux_binary(members, raw.stem)
     members[BUILD_INFO] = (digest + "\n").encode()
     write_reproducible_zip(out, members)
 
