@@ -35,8 +35,9 @@ class ShuttleLqr(AotvSlave):
         self.integer_parameter("literal", 0, "method 1: 0 coefficients frozen at xi_f, quartic "
                                "(4.85); 1 as printed: roots of (4.82) and A follow xi")
         self.integer_parameter("feedback", 0, "0: optimal u* open loop; 1: u = -R^-1 B^T K^-1 X")
-        for name, unit in (("h", "m"), ("v", "m/s"), ("gamma", "rad")):
-            self.input(name, 0.0 if name != "v" else 1.0, unit, f"Nominal {name} (latched at start)")
+        for name, start, unit in (("h", st.H_START, "m"), ("v", st.V_HI, "m/s"),
+                                  ("gamma", st.GAMMA_START, "rad")):  # the 400,000 ft entry
+            self.input(name, start, unit, f"Nominal {name} (latched at start)")
         guidance_slave.declare_pitch_measurements(self, ('alpha', 'alpha_prime', 'xi', 'f', 'mu'))
         self.output("delta_e", "rad", "Commanded elevator deflection", self._command,
                     depends_on=("alpha", "alpha_prime", "xi", "f", "mu"),
