@@ -2,6 +2,7 @@
 
 import math
 
+from aotv_cosim.fmu_slave import POSITIVE
 from aotv_cosim.physics import mrrv, point_mass
 from aotv_cosim.vehicle_slave import UNBOUND_APOGEE, VehicleSlave
 
@@ -25,8 +26,8 @@ class LiftBankVehicle(VehicleSlave):
         p = self.parameter
         p("CL_star", mrrv.CL_STAR, "1", "Lift coefficient at (L/D)max")
         p("E_star", mrrv.E_STAR, "1", "Maximum lift-to-drag ratio E*")
-        p("S_ref", mrrv.S_REF, "m2", "Reference area")
-        p("mass", mrrv.MASS, "kg", "Vehicle mass")
+        p("S_ref", mrrv.S_REF, "m2", "Reference area", min=POSITIVE)
+        p("mass", mrrv.MASS, "kg", "Vehicle mass", min=POSITIVE)
         self.input("lam", 1.0, "1", "Normalized lift coefficient lambda = C_L / C_L*")
         self.declare_vehicle(aero_inputs=("lam",))
         self.output("loh_term", "1", "Loh's term eps*Mbar, gravity minus centrifugal per unit lift "

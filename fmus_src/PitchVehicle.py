@@ -2,7 +2,7 @@
 
 import math
 
-from aotv_cosim.fmu_slave import AotvSlave
+from aotv_cosim.fmu_slave import POSITIVE, AotvSlave
 from aotv_cosim.physics import shuttle_pitch as sp
 
 
@@ -41,7 +41,7 @@ class PitchVehicle(AotvSlave):
         inp = self.input
         inp("rho", sp.PLANET.density(400000.0 * sp.FT), "kg/m3", "Density at the vehicle")
         inp("h", 400000.0 * sp.FT, "m", "Nominal altitude")
-        inp("v", 24800.0 * sp.FT, "m/s", "Nominal speed")
+        inp("v", 24800.0 * sp.FT, "m/s", "Nominal speed", min=POSITIVE)
         inp("gamma", 0.0, "rad", "Nominal flight-path angle")
         inp("alpha0", math.radians(53.0), "rad", "Nominal angle of attack")
         inp("delta_e", 0.0, "rad", "Applied elevator deflection")
