@@ -26,6 +26,7 @@ import sys
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu.enums import Fmi2Status
 
 # SI base-unit exponents of every unit used at an FMU interface (FMI 2.0 BaseUnit attributes).
 UNIT_EXPONENTS = {
@@ -161,6 +162,18 @@ class AotvSlave(Fmi2Slave):
         for vr, value in zip(vrs, values):
             setters[vr](value)
         self._inputs_checked = False
+
+    def step_refused(self):
+        """True, after logging why at fmi2Error, when an input lies outside its declared range: the
+        FMU's do_step then returns False without changing its state, which pythonfmu reports as
+        fmi2Discard (the step is not done, the instance stays usable; any Python exception would be
+        fmi2Fatal, pythonfmu 0.7 has no other status)."""
+        outside = [f"{name} = {getattr(self, name)!r} not in [{low:g}, {high:g}]"
+                   for name, (low, high) in self._input_ranges.items() if not low <= getattr(self, name) <= high]
+        if outside:
+            self.log(f"{type(self).__name__}: step refused, inputs outside their declared ranges: "
+                     f"{'; '.join(outside)}", Fmi2Status.error)
+        return bool(outside)
 
     def _check_inputs(self):
         """The value references of the outputs undefined because an input they depend on (while

@@ -118,7 +118,10 @@ class VehicleSlave(AotvSlave):
         self.reset_state()
 
     def advance(self, step_size):
-        """The FMU's do_step body: integrate over step_size (s); False when the state is not finite."""
+        """The FMU's do_step body: integrate over step_size (s); False (fmi2Discard) when the state
+        is not finite or an input is outside its declared range (`step_refused`)."""
+        if self.step_refused():
+            return False
         args = (self.rho, *self.aero_forces(), self.sigma, self.gravity_model, self.g0, self.mu,
                 self.heading_model)
         self.x = point_mass.integrate(self.x, step_size, self.max_substep, args)

@@ -86,6 +86,8 @@ class PitchVehicle(AotvSlave):
                                self.rates.rates(), self._aero(), planet)
 
     def do_step(self, current_time, step_size):
+        if self.step_refused():  # V = 0: the coefficients divide by V
+            return False
         self.rates.add(current_time, self.v, self.gamma, self.gamma + self.alpha0)
         c = self._coeffs()
         self.x = sp.advance_pitch(*self.x, step_size, self.v, c, self.delta_e, self.max_substep)
