@@ -57,15 +57,17 @@ def test_out_of_range_wiring_and_scenario_values_are_refused(tmp_path, wiring_do
     assert code == 2 and "parameters.vehicle.v0: v0 = 0.0 is outside its physical range" in text, text
 
 
-def test_a_run_reaching_the_ground_stops_with_impact(tmp_path):
-    """h0 = 90 (km typed for m): the run stops at the ground, status impact, exit 1, rows kept."""
-    code, text = invoke("run", NOMINAL, "--set", "vehicle.h0=90", "--out", tmp_path, "--no-plots")
+@pytest.mark.parametrize("setting", ["vehicle.h0=90", "vehicle.gamma0=-1.146"])
+def test_a_run_reaching_the_ground_stops_with_impact(setting, tmp_path):
+    """h0 = 90 (km typed for m), gamma0 = -1.146 (degrees typed for rad): the run stops at the
+    ground, status impact, exit 1, rows kept."""
+    code, text = invoke("run", NOMINAL, "--set", setting, "--out", tmp_path, "--no-plots")
     assert code == 1, text
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["status"] == "impact"
     assert "vehicle.h reached the ground" in summary["error"]
     event = summary["event"]
-    assert event["signal"] == "vehicle.h" and 0.0 < event["time"] < 1.0
+    assert event["signal"] == "vehicle.h" and 0.0 < event["time"] < 30.0
     assert event["values"]["vehicle.h"] == pytest.approx(0.0, abs=1e-6)
     rows = (tmp_path / "timeseries.csv").read_text().splitlines()
     assert len(rows) >= 3  # header, start, the row past the ground
