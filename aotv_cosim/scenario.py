@@ -6,6 +6,7 @@ from pathlib import Path
 
 from aotv_cosim.documents import load_document
 from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.run_size import check_run_size
 from aotv_cosim.system import System, load_system
 
 
@@ -160,6 +161,8 @@ def _check_times(s: Scenario):
         problems.append(InputError(f"(stop - start) / step = {(s.stop - s.start) / s.step:.3g} "
                                    f"communication points, more than {MAX_STEPS:.0e}", file=s.path,
                                    entry="step", fix="give a larger step or a shorter time span"))
+    if not problems:
+        problems += check_run_size(s)
     for k, e in enumerate(s.expectations):
         if not isinstance(e.at, str) and not s.start <= e.at <= s.stop:
             problems.append(InputError(f"time {e.at} s is outside the run [{s.start}, {s.stop}] s",
