@@ -74,3 +74,21 @@ def range_watches(system, read):
             watches.append(RangeWatch(signal, high, "up", "out_of_range",
                                       f"{signal} rose above its declared max {high:g}"))
     return watches
+
+
+def check_dispersion(fmu, name, dispersion, *, file, entry):
+    """Problems with a Monte Carlo dispersion of variable `name` of `fmu`: its bounds (uniform,
+    truncated_normal) or, for a normal, its mean outside the declared range, so that the draws
+    would give the FMU values it does not accept."""
+    bounds = declared_range(fmu, name)
+    if bounds is None:
+        return []
+    given = {"low": dispersion.low, "high": dispersion.high} if dispersion.low is not None \
+        else {"mean": dispersion.mean}
+    bad = {k: v for k, v in given.items() if v is not None and not bounds[0] <= v <= bounds[1]}
+    if not bad:
+        return []
+    return [InputError(f"{', '.join(f'{k} = {v!r}' for k, v in bad.items())} of {dispersion.signal} lies outside "
+                       f"its physical range {_interval(*bounds)}", file=file, entry=entry,
+                       fix=f"keep the dispersion within {_interval(*bounds)} (declared by the "
+                           f"{fmu.model_identifier} FMU; values are SI)")]

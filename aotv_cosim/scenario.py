@@ -6,6 +6,7 @@ from pathlib import Path
 
 from aotv_cosim.documents import load_document
 from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.ranges import check_dispersion
 from aotv_cosim.run_size import check_run_size
 from aotv_cosim.system import System, load_system
 
@@ -204,6 +205,9 @@ def _check_signals(s: Scenario, doc):
         elif d.low is not None and not d.low < d.high:
             problems.append(InputError(f"low ({d.low}) must be below high ({d.high})", file=s.path,
                                        entry=f"dispersions.{d.signal}", fix="swap or widen the bounds"))
+        else:
+            problems += check_dispersion(s.system.components[comp].fmu, var, d, file=s.path,
+                                         entry=f"dispersions.{d.signal}")
     for k, signal in enumerate(s.scatter):
         check(signal, f"montecarlo.scatter[{k}]")
     for k, p in enumerate(s.plots):

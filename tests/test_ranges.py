@@ -77,3 +77,25 @@ def test_nominal_run_is_not_stopped_by_the_ranges(tmp_path):
     code, text = invoke("run", NOMINAL, "--out", tmp_path, "--no-plots")
     assert code == 0, text
     assert json.loads((tmp_path / "summary.json").read_text())["status"] == "completed"
+
+
+def test_dispersion_outside_the_range_is_refused(tmp_path, scenario_doc):
+    """Monte Carlo draws are scenario overrides: a dispersion whose bounds leave the range is refused."""
+    scenario_doc["dispersions"] = {"vehicle.gamma0": {"distribution": "uniform", "low": -2.0, "high": -0.01}}
+    code, text = invoke("validate", write_json(tmp_path / "scenario.json", scenario_doc))
+    assert code == 2 and "dispersions.vehicle.gamma0: low = -2.0 of vehicle.gamma0 lies outside" in text, text
+    scenario_doc["dispersions"] = {"vehicle.gamma0": {"distribution": "uniform", "low": -0.03, "high": -0.01}}
+    code, text = invoke("validate", write_json(tmp_path / "scenario.json", scenario_doc))
+    assert code == 0, text
+
+
+def test_lqr_costate_from_zero_perturbation_is_zero():
+    """ShuttleLqr from alpha(xi0) = alpha'(xi0) = 0 (a zero-input start) solves to u* = X* = 0."""
+    import numpy as np
+
+    from aotv_cosim.guidance import shuttle_lqr as lqr
+    from aotv_cosim.physics import shuttle_trajectory as st
+
+    traj = st.predict(st.H_START, st.V_HI, st.GAMMA_START, 446.8)
+    solution = lqr.NumericalLqr.solve(st.coefficient_model(traj), 446.8, lqr.R_PRINTED["150kft"], (0.0, 0.0), n=11)
+    assert not np.any(solution.u) and not np.any(solution.x)
