@@ -182,7 +182,8 @@ class AotvSlave(Fmi2Slave):
                    if not low <= getattr(self, name) <= high}
         self._undefined = frozenset(
             var.value_reference for var in self.vars.values() if var.name in self._output_deps
-            and outside.intersection(self._output_deps[var.name] + self._initial_deps[var.name]))
+            and outside.intersection(self._output_deps[var.name] + self._initial_deps[var.name])
+        ) if outside else frozenset()
         self._inputs_checked = True
 
     # ---- model description ------------------------------------------------------------------
