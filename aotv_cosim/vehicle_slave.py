@@ -80,7 +80,7 @@ class VehicleSlave(AotvSlave):
         o("r", "m", "Radius", x(0))
         o("theta", "rad", "Longitude", x(1))
         o("phi", "rad", "Latitude", x(2))
-        o("v", "m/s", "Speed", x(3), min=0.0)
+        o("v", "m/s", "Speed", x(3))
         o("gamma", "rad", "Flight-path angle", x(4))
         o("psi", "rad", "Heading from east toward north", x(5))
         o("inclination", "rad", "Orbit inclination arccos(cos phi cos psi) (seed 001 Sec. 3.1)",
