@@ -2,6 +2,7 @@
 
 import math
 
+from aotv_cosim.fmu.slave import POSITIVE
 from aotv_cosim.physics import entry, entry_reference, point_mass, sx2
 from aotv_cosim.fmu.vehicle_slave import VehicleSlave
 
@@ -34,10 +35,10 @@ class AlphaBankVehicle(VehicleSlave):
         p("cd0", sx2.CD_0, "1", "Drag polar constant term")
         p("cd1", sx2.CD_ALPHA, "1/rad", "Drag polar linear term")
         p("cd2", sx2.CD_ALPHA2, "1/rad2", "Drag polar quadratic term")
-        p("S_ref", sx2.S_REF, "m2", "Reference area")
-        p("mass", sx2.MASS, "kg", "Vehicle mass")
+        p("S_ref", sx2.S_REF, "m2", "Reference area", min=POSITIVE)
+        p("mass", sx2.MASS, "kg", "Vehicle mass", min=POSITIVE)
         self.integer_parameter("ideal_drag", 0, "0: drag at the input alpha; 1: at the seed 002 "
-                                                "reference alpha_ref(E) (verification plant)")
+                                                "reference alpha_ref(E) (verification plant)", min=0, max=1)
         self.input("alpha", 0.0, "rad", "Angle of attack")
         self.declare_vehicle(aero_inputs=("alpha",))
         o = self.output

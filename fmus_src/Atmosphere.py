@@ -27,7 +27,7 @@ class Atmosphere(AotvSlave):
         self.parameter("noise_amplitude", 0.0, "1",
                        "Half-width of the uniform density noise, relative (0.2: +-20 %; 0: none)")
         self.parameter("noise_interval", 0.1, "s", "Time between two noise samples")
-        self.integer_parameter("noise_seed", 0, "Seed (>= 0) of the density noise")
+        self.integer_parameter("noise_seed", 0, "Seed (>= 0) of the density noise", min=0)
         self.input("h", 0.0, "m", "Geometric altitude above the reference sphere")
         self.output("rho", "kg/m3", "Air density at h", self._density, depends_on=("h",))
         self.time = 0.0

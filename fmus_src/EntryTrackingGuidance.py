@@ -4,12 +4,14 @@ import math
 
 import numpy as np
 
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance import entry_tracking as law
 from aotv_cosim.guidance.entry_tracking_reference import Reference
 from aotv_cosim.physics import entry, sx2
 
 STATE = ("r", "theta", "phi", "v", "gamma", "psi")
+STATE_RANGES = {"r": {"min": POSITIVE}, "v": {"min": POSITIVE}}
+"""Declared ranges of the measured state (the law divides by r and v)."""
 
 
 class EntryTrackingGuidance(AotvSlave):
@@ -34,9 +36,11 @@ class EntryTrackingGuidance(AotvSlave):
         p("zeta1", 0.7, "1", "Downrange pole damping")
         p("omega2", 33.6, "1", "Crossrange pole frequency, units of 1/(mu/r0) (energy domain)")
         p("zeta2", 0.7, "1", "Crossrange pole damping")
-        self.integer_parameter("integral_terms", 1, "1: include the integral feedback of eq. (49); 0: omit")
+        self.integer_parameter("integral_terms", 1, "1: include the integral feedback of eq. (49); 0: omit",
+                               min=0, max=1)
         self.integer_parameter("inversion", 0, "Control recovery: 0 the paper's (52-54) with D = D~; 1 exact in "
-                                               "the drag at the commanded alpha (entry_tracking.drag_aware_controls)")
+                                               "the drag at the commanded alpha (entry_tracking.drag_aware_controls)",
+                               min=0, max=1)
         p("eta", 0.5, "1", "Downrange weight of the constrained inversion, eq. (54)")
         p("alpha_width", 5.0 * deg, "rad", "Half-width of the alpha band around alpha_ref")
         p("alpha_min", 5.0 * deg, "rad", "Lowest alpha (validity of the polar fit)")
@@ -46,7 +50,7 @@ class EntryTrackingGuidance(AotvSlave):
         p("R0", sx2.R_EARTH, "m", "Radius converting angle errors to distances (paper: r0)")
         entry_state = (sx2.R_EARTH + sx2.H0, 0.0, 0.0, sx2.V0, 0.0, 0.0)  # start values: the paper's entry
         for name, unit, start in zip(STATE, ("m", "rad", "rad", "m/s", "rad", "rad"), entry_state):
-            self.input(name, start, unit, f"Measured {name}")
+            self.input(name, start, unit, f"Measured {name}", **STATE_RANGES.get(name, {}))
         self.reference = Reference()
         self.integrals = np.zeros(2)
         self.anchor = None

@@ -23,7 +23,8 @@ class FaultInjector(AotvSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.integer_parameter("fault_kind", 0, "0 none, 1 raise, 2 error status, 3 NaN, 4 inf")
+        self.integer_parameter("fault_kind", 0, "0 none, 1 raise, 2 error status, 3 NaN, 4 inf",
+                               min=0, max=4)
         self.parameter("fault_time", 1.0, "s", "Faults from the first step ending after this time")
         self.input("u", 0.0, "m/s2", "Command passed through")
         self.output("y", "m/s2", "u, or the injected NaN/inf once faulted", self._value, depends_on=("u",))

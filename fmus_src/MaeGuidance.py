@@ -3,7 +3,7 @@
 import math
 
 from aotv_cosim.fmu import guidance_slave
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance import mae
 from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw
 from aotv_cosim.physics import mrrv
@@ -34,15 +34,17 @@ class MaeGuidance(AotvSlave):
         p("psi_f", math.radians(20.0), "rad", "Exit heading target (Sec. 3.7.2: 20 deg change)")
         p("update_period", 5.0, "s", "Time between MAE re-solves (Sec. 3.8.2: 5 s)")
         self.integer_parameter("measured_u_in_p_u", 0,
-                               "1: measured u in the inner P_u (extraction A17); 0: u_0^i(psi)")
+                               "1: measured u in the inner P_u (extraction A17); 0: u_0^i(psi)", min=0, max=1)
         self.integer_parameter("first_order", 0,
-                               "1: first-order HJB costate correction (Sec. 4, experimental)")
+                               "1: first-order HJB costate correction (Sec. 4, experimental)", min=0, max=1)
         self.integer_parameter("stop_turn_at_psi_f", 0,
-                               "1: only the vertical lift component once psi >= psi_f (not in the report)")
+                               "1: only the vertical lift component once psi >= psi_f (not in the report)",
+                               min=0, max=1)
         start = (mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
         for name, value, unit, what in zip(STATE, start, ("m", "m/s", "rad", "rad"),
                                            ("radius", "speed", "flight-path angle", "heading")):
-            self.input(name, value, unit, f"Measured {what}")
+            self.input(name, value, unit, f"Measured {what}",
+                       **({"min": POSITIVE} if name in ("r", "v") else {}))
         out = self.output
         out("lam", "1", "Normalized lift command lambda (eq. 3.26)", lambda: self._evaluated()[0][0],
             depends_on=STATE)

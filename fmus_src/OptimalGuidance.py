@@ -18,7 +18,8 @@ class OptimalGuidance(guidance_slave.EntryLatchedGuidance):
         self.parameter("tf", 300.0, "s", "Fixed final time of the transfer")
         self.exit_targets_and_k()
         self.integer_parameter("free_exit_velocity", 0,
-                               "1: exit speed free, lambda_v(tf) = 0 (eq. 4.24), vf ignored; 0: v(tf) = vf")
+                               "1: exit speed free, lambda_v(tf) = 0 (eq. 4.24), vf ignored; 0: v(tf) = vf",
+                               min=0, max=1)
         out = self.solution_output
         out("u", "m/s2", "Lift acceleration command", self.current_command)
         out("solve_time", "s", "Wall-clock time of the 2PBVP solve", lambda: self.solution().solve_time)

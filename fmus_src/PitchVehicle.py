@@ -2,7 +2,7 @@
 
 import math
 
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.physics import shuttle_pitch as sp
 
 
@@ -41,7 +41,7 @@ class PitchVehicle(AotvSlave):
         inp = self.input
         inp("rho", sp.PLANET.density(400000.0 * sp.FT), "kg/m3", "Density at the vehicle")
         inp("h", 400000.0 * sp.FT, "m", "Nominal altitude")
-        inp("v", 24800.0 * sp.FT, "m/s", "Nominal speed")
+        inp("v", 24800.0 * sp.FT, "m/s", "Nominal speed", min=POSITIVE)
         inp("gamma", 0.0, "rad", "Nominal flight-path angle")
         inp("alpha0", math.radians(53.0), "rad", "Nominal angle of attack")
         inp("delta_e", 0.0, "rad", "Applied elevator deflection")
@@ -86,6 +86,8 @@ class PitchVehicle(AotvSlave):
                                self.rates.rates(), self._aero(), planet)
 
     def do_step(self, current_time, step_size):
+        if self.step_refused():  # V = 0: the coefficients divide by V
+            return False
         self.rates.add(current_time, self.v, self.gamma, self.gamma + self.alpha0)
         c = self._coeffs()
         self.x = sp.advance_pitch(*self.x, step_size, self.v, c, self.delta_e, self.max_substep)

@@ -7,6 +7,7 @@ import numpy as np
 
 from aotv_cosim.fmu import guidance_slave
 from aotv_cosim.guidance.plane_change_optimal import PlaneChangeProblem, solve_optimal
+from aotv_cosim.physics import mrrv
 
 
 class PlaneChangeOptimalGuidance(guidance_slave.EntryLatchedGuidance):
@@ -19,6 +20,8 @@ class PlaneChangeOptimalGuidance(guidance_slave.EntryLatchedGuidance):
     """
 
     description = "Open-loop numerically optimal plane change (seed 001 Sec. 3.8.2 reference)"
+    entry_start = (mrrv.Z_REF, 7851.0, math.radians(-1.35))
+    """Seed 001 entry (Sec. 3.7.2): 60 km, 7851 m/s, -1.35 deg."""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)

@@ -1,5 +1,6 @@
 """PointMassVehicle FMU: seed-000 AOTV, lift acceleration and bank inputs, parasite drag."""
 
+from aotv_cosim.fmu.slave import POSITIVE
 from aotv_cosim.physics import constants
 from aotv_cosim.fmu.vehicle_slave import VehicleSlave
 
@@ -17,7 +18,8 @@ class PointMassVehicle(VehicleSlave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.parameter("CD0", constants.CD0_000, "1", "Parasite drag coefficient")
-        self.parameter("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Mass over reference area m/S")
+        self.parameter("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Mass over reference area m/S",
+                       min=POSITIVE)
         self.input("u_lift", 0.0, "m/s2", "Lift acceleration L/m")
         self.declare_vehicle(aero_inputs=("u_lift",), drag_inputs=())  # parasite drag
         o = self.output

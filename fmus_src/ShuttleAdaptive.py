@@ -1,8 +1,9 @@
 """ShuttleAdaptive FMU: seed 003 Slotine-Li modified adaptive elevator law, eqs. (5.28)-(5.35)."""
 
 from aotv_cosim.fmu import guidance_slave
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance.shuttle_laws import ADAPTIVE_GAINS, AdaptiveLaw
+from aotv_cosim.physics import shuttle_trajectory as st
 from aotv_cosim.physics.shuttle_pitch import GENERIC
 
 NAMES = ("m", "c", "k", "d", "n")
@@ -22,10 +23,10 @@ class ShuttleAdaptive(AotvSlave):
         self.parameter("lam", lam, "1", "Sliding-surface gain lambda, per shuttle length")
         for name, g in zip(NAMES, gam):
             self.parameter(f"gamma_{name}", g, "1", f"Adaptation gain of the {name} estimate")
-        self.integer_parameter("anti_windup", 0, "1: freeze adaptation while saturated")
+        self.integer_parameter("anti_windup", 0, "1: freeze adaptation while saturated", min=0, max=1)
         self.parameter("L", GENERIC.L, "m", "Shuttle reference length of xi")
         guidance_slave.declare_pitch_measurements(self, ('alpha', 'alpha_prime'))
-        self.input("v", 1.0, "m/s", "Speed")
+        self.input("v", st.V_HI, "m/s", "Speed", min=POSITIVE)
         self.input("delta_e_applied", 0.0, "rad", "Elevator deflection actually applied")
         self.output("delta_e", "rad", "Commanded elevator deflection", self._command,
                     depends_on=("alpha", "alpha_prime"))

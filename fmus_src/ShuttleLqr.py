@@ -1,11 +1,12 @@
 """ShuttleLqr FMU: seed 003 fixed-end-point time-varying LQR elevator law (Ch. 4)."""
 
+import math
 import time
 
 import numpy as np
 
 from aotv_cosim.fmu import guidance_slave
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance import shuttle_lqr as lqr
 from aotv_cosim.physics import shuttle_trajectory as st
 
@@ -31,12 +32,13 @@ class ShuttleLqr(AotvSlave):
         super().__init__(**kwargs)
         self.parameter("R", lqr.R_PRINTED["150kft"], "1", "Control weight R (Q = I)")
         self.parameter("window", 446.8, "1", "xi_f - xi0, shuttle lengths")
-        self.integer_parameter("method", 0, "0: numerical Riccati; 1: asymptotic")
+        self.integer_parameter("method", 0, "0: numerical Riccati; 1: asymptotic", min=0, max=1)
         self.integer_parameter("literal", 0, "method 1: 0 coefficients frozen at xi_f, quartic "
-                               "(4.85); 1 as printed: roots of (4.82) and A follow xi")
-        self.integer_parameter("feedback", 0, "0: optimal u* open loop; 1: u = -R^-1 B^T K^-1 X")
-        for name, unit in (("h", "m"), ("v", "m/s"), ("gamma", "rad")):
-            self.input(name, 0.0 if name != "v" else 1.0, unit, f"Nominal {name} (latched at start)")
+                               "(4.85); 1 as printed: roots of (4.82) and A follow xi", min=0, max=1)
+        self.integer_parameter("feedback", 0, "0: optimal u* open loop; 1: u = -R^-1 B^T K^-1 X", min=0, max=1)
+        for name, start, unit, low in (("h", st.H_START, "m", 0.0), ("v", st.V_HI, "m/s", POSITIVE),
+                                       ("gamma", st.GAMMA_START, "rad", -math.pi / 2)):  # 400,000 ft entry
+            self.input(name, start, unit, f"Nominal {name} (latched at start)", min=low)
         guidance_slave.declare_pitch_measurements(self, ('alpha', 'alpha_prime', 'xi', 'f', 'mu'))
         self.output("delta_e", "rad", "Commanded elevator deflection", self._command,
                     depends_on=("alpha", "alpha_prime", "xi", "f", "mu"),

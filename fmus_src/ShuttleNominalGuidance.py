@@ -2,7 +2,7 @@
 
 import math
 
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.physics import shuttle_trajectory as st
 
 
@@ -23,7 +23,7 @@ class ShuttleNominalGuidance(AotvSlave):
         p("tau_glide", st.TAU_GLIDE, "s", "Relaxation time of gamma to the equilibrium glide slope")
         p("mass_per_area", st.TRAJECTORY_MASS / st.GENERIC.S, "kg/m2", "Trajectory mass over area")
         self.input("h", st.H_START, "m", "Altitude")
-        self.input("v", st.V_HI, "m/s", "Speed")
+        self.input("v", st.V_HI, "m/s", "Speed", min=POSITIVE)
         self.input("gamma", st.GAMMA_START, "rad", "Flight-path angle")
         self.output("alpha0", "rad", "Nominal angle of attack", self._alpha0, depends_on=("v",))
         self.output("bank", "rad", "Bank angle of the nominal glide", self._bank,

@@ -173,3 +173,17 @@ def test_unparsed_step_can_come_from_the_command_line(ssp, tmp_path):
     with pytest.raises(InputError):
         load_scenario(bad)
     assert load_scenario(bad, step=0.5).step == 0.5
+
+
+def test_default_experiment_stops_where_the_system_gets(tmp_path):
+    """A scenario ending at a stop condition exports the last communication point before its
+    event, not its own stop (400 s here, past the atmospheric exit); the archive runs to it."""
+    exit_scenario = load_scenario(NOMINAL.with_name("aotv_time_linear_exit.json"))
+    event = run_scenario(exit_scenario, tmp_path / "run", make_plots=False)["event"]["time"]
+    archive = export_ssp(exit_scenario, tmp_path / "exit.ssp")
+    stop = float(xml_member(archive, "SystemStructure.ssd").find("ssd:DefaultExperiment", NS).get("stopTime"))
+    assert stop < exit_scenario.stop
+    assert event - exit_scenario.step < stop <= event
+    assert round(stop / exit_scenario.step, 9) == round(stop / exit_scenario.step)
+    summary = run_scenario(load_scenario(archive), tmp_path / "ssp", make_plots=False)
+    assert summary["status"] == "completed" and summary["end_time"] == pytest.approx(stop)

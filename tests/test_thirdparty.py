@@ -38,7 +38,7 @@ from aotv_cosim.ssp.export import export_ssp
 from conftest import SCENARIOS
 
 SYSTEMS = ["aotv_time_linear_nominal.json", "aotv_robust_k0_8.json", "plane_change_mae_guided.json",
-           "entry_ideal_combined.json", "shuttle_fl_150kft.json"]
+           "entry_ideal_combined.json", "shuttle_fl_150kft.json", "shuttle_lqr_400kft.json"]
 """Scenarios whose systems must run in libcosim like in this master (add each seed's system)."""
 
 FMPY_DIVERGES = {
@@ -47,8 +47,11 @@ FMPY_DIVERGES = {
     "aotv_robust_k0_8.json": "FMPy's SSP simulator starts connectors at 0: the robust law's first command "
                              "sees h = v = 0 and the sea-level density acts for one step, h(300 s) = "
                              "125896 m instead of 89871 m",
-    "shuttle_fl_150kft.json": "FMPy's SSP simulator starts connectors at 0: the pitch vehicle receives V = 0 "
-                              "at its first evaluation and fmi2GetReal fails (its coefficients divide by V)",
+    "shuttle_fl_150kft.json": "FMPy's SSP simulator starts connectors at 0: the pitch vehicle receives V = 0, "
+                              "outside its declared range (its coefficients divide by V), and refuses the "
+                              "first step (fmi2Discard)",
+    "shuttle_lqr_400kft.json": "FMPy's SSP simulator starts connectors at 0: the pitch vehicle receives V = 0, "
+                               "outside its declared range, and refuses the first step (fmi2Discard)",
     "plane_change_mae_guided.json": "FMPy's SSP simulator starts connectors at 0: the MAE guidance receives "
                                     "r = v = 0, on which its MAE solve fails (fmi2GetReal fatal)",
     "entry_ideal_combined.json": "FMPy's SSP simulator starts connectors at 0: the tracking guidance receives "

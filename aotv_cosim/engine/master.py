@@ -44,6 +44,7 @@ import numpy as np
 from aotv_cosim.engine import interrupts, ordering
 from aotv_cosim.engine.errors import InputError, SimulationError
 from aotv_cosim.engine.fmi_instance import FmuInstance
+from aotv_cosim.engine.ranges import RangeWatch, range_watches
 
 CHUNK = 1000
 """Communication points recorded between two flushes to the result files."""
@@ -332,7 +333,8 @@ class Master:
         values, array = self.values, self.array
         start, h, stop = s.start, s.step, s.stop
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
-        conditions = [(self.index[c.signal], c.threshold, c.direction, c) for c in s.stop_conditions]
+        conditions = [(self.index[c.signal], c.threshold, c.direction, c)
+                      for c in [*s.stop_conditions, *range_watches(s.system, self.index)]]
         previous = array.copy()
         finish, extrapolate = self._end_of_sweep()
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
@@ -389,6 +391,9 @@ class Master:
                         outcome.event = rows.event(cond, t, t_new, fraction, previous)
                         outcome.stop_reason = (f"{cond.signal} crossed {threshold:g} "
                                                f"{'up' if up else 'down'} at t = {outcome.event['time']:.6g} s")
+                        if isinstance(cond, RangeWatch):  # an output left its declared range
+                            outcome.status = cond.status
+                            outcome.error = f"{cond.message} at t = {outcome.event['time']:.6g} s"
                         rows.add(t_new)
                         return
                 if conditions:

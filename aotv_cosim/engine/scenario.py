@@ -8,6 +8,8 @@ from aotv_cosim.engine.documents import load_document
 from aotv_cosim.engine.errors import InputError, raise_if_any
 from aotv_cosim.engine.paths import regular_file, resolved
 from aotv_cosim.engine.system import System, load_system
+from aotv_cosim.engine.ranges import check_dispersion
+from aotv_cosim.engine.run_size import check_run_size
 
 
 MAX_STEPS = 1e9
@@ -181,6 +183,8 @@ def _check_times(s: Scenario):
         problems.append(InputError(f"(stop - start) / step = {(s.stop - s.start) / s.step:.3g} "
                                    f"communication points, more than {MAX_STEPS:.0e}", file=s.path,
                                    entry="step", fix="give a larger step or a shorter time span"))
+    if not problems:
+        problems += check_run_size(s)
     for k, e in enumerate(s.expectations):
         if not isinstance(e.at, str) and not s.start <= e.at <= s.stop:
             problems.append(InputError(f"time {e.at} s is outside the run [{s.start}, {s.stop}] s",
@@ -232,6 +236,9 @@ def _check_signals(s: Scenario, doc):
         elif d.low is not None and not d.low < d.high:
             problems.append(InputError(f"low ({d.low}) must be below high ({d.high})", file=s.path,
                                        entry=f"dispersions.{d.signal}", fix="swap or widen the bounds"))
+        else:
+            problems += check_dispersion(s.system.components[comp].fmu, var, d, file=s.path,
+                                         entry=f"dispersions.{d.signal}")
     for k, signal in enumerate(s.scatter):
         check(signal, f"montecarlo.scatter[{k}]")
     for k, p in enumerate(s.plots):

@@ -20,6 +20,7 @@ from aotv_cosim.engine.documents import check_document, load_document
 from aotv_cosim.engine.errors import AotvError, InputError, raise_if_any
 from aotv_cosim.engine.fmu_file import FmuInfo, Variable, read_fmu, resolve_fmu
 from aotv_cosim.engine.paths import resolved
+from aotv_cosim.engine.ranges import check_range
 from aotv_cosim.ssp.load import read_ssp
 
 
@@ -136,7 +137,8 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
         for var, value in comp.parameters.items():
             entry = f"components.{comp.name}.parameters.{var}"
             problems += _check_known(comp, var, path, entry) or check_value(
-                comp.fmu.variables[var], value, file=path, entry=entry)
+                comp.fmu.variables[var], value, file=path, entry=entry) or check_range(
+                comp.fmu, var, value, file=path, entry=entry)
     for signal, value in (overrides or {}).items():
         entry = f"parameters.{signal}"
         comp_name, var = signal.split(".", 1) if "." in signal else (signal, "")
@@ -145,7 +147,8 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
             continue
         found = _check_known(components[comp_name], var, overrides_file, entry)
         problems += found or check_value(components[comp_name].fmu.variables[var], value,
-                                         file=overrides_file, entry=entry)
+                                         file=overrides_file, entry=entry) or check_range(
+            components[comp_name].fmu, var, value, file=overrides_file, entry=entry)
         if not found:
             components[comp_name].parameters[var] = value
 

@@ -4,7 +4,8 @@ Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the 
 the adapter base classes) so it runs where aotv-cosim is not installed. The build then rewrites
 the archive so that the same sources give the same bytes: the modelDescription gets a GUID
 derived from the sources and the generated XML, no generation date, and zip entries are written
-in sorted order with a fixed timestamp. Finally `fmpy validate` must report no problem.
+in sorted order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI
+hosts (`fmu_native`). Finally `fmpy validate` must report no problem.
 """
 
 import ast
@@ -23,6 +24,7 @@ import pythonfmu
 from pythonfmu.builder import FmuBuilder
 
 from aotv_cosim.engine.errors import BuildError
+from aotv_cosim.fmu import native as fmu_native
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
 RUNTIME = ("__init__.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
@@ -36,7 +38,7 @@ ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
-BUILD_FORMAT = "2: explicit variability"
+BUILD_FORMAT = "3: explicit variability, Linux binary loads in C hosts"
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -74,8 +76,10 @@ def _runtime_files():
 
 
 def source_hash(name: str) -> str:
-    """SHA-256 over the FMU's module, the bundled runtime and the pythonfmu version."""
-    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n".encode())
+    """SHA-256 over the FMU's module, the bundled runtime, the pythonfmu version and what the
+    Linux binary's patch depends on (`fmu_native.fingerprint`: the building Python's libpython)."""
+    digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n"
+                            f"{fmu_native.fingerprint()}\n".encode())
     for path in [fmus_src_dir() / f"{name}.py", *_runtime_files()]:
         rel = path.relative_to(path.parents[1] if path.parent.name == "fmus_src" else PACKAGE_DIR.parent)
         digest.update(f"{rel.as_posix()}\n".encode())
@@ -174,6 +178,7 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
     with zipfile.ZipFile(raw) as src:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
+    fmu_native.patch_linux_binary(members, raw.stem)
     members[BUILD_INFO] = (digest + "\n").encode()
     write_reproducible_zip(out, members)
 

@@ -18,9 +18,9 @@ import time as clock
 from abc import abstractmethod
 from functools import lru_cache
 
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
-from aotv_cosim.physics import mrrv
+from aotv_cosim.physics import mrrv, shuttle_pitch, shuttle_trajectory
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 from aotv_cosim.physics.planar import ENTRY_000, EXIT_000, K_BALL_000, TF_000
 
@@ -61,23 +61,33 @@ def declare_plane_change_problem(slave):
     p("mu", MU_EARTH, "m3/s2", "Gravitational parameter")
 
 
+PITCH_ENTRY = shuttle_pitch.coefficients(shuttle_pitch.PLANET.density(shuttle_trajectory.H_START),
+                                         shuttle_trajectory.H_START, shuttle_trajectory.V_HI, 0.0,
+                                         shuttle_trajectory.ALPHA_HI, shuttle_pitch.TrajectoryRates())
+"""Coefficients of eq. (1.38), eqs. (1.39)-(1.42), that the PitchVehicle outputs on its own start
+values (400,000 ft, 24,800 ft/s, gamma 0, alpha0 53 deg, no trajectory rates)."""
+
 PITCH_MEASUREMENTS = {
-    "alpha": (0.0, "rad", "Angle-of-attack perturbation"),
+    "alpha": (shuttle_trajectory.ALPHA_I, "rad", "Angle-of-attack perturbation"),
     "alpha_prime": (0.0, "rad", "d alpha / d xi"),
     "xi": (0.0, "1", "Shuttle lengths flown"),
-    "omega0": (0.0, "1", "Stiffness coefficient"),
-    "omega1": (0.0, "1", "Damping coefficient"),
-    "f": (0.0, "1", "Disturbance term"),
-    "mu": (1.0, "1", "Control coefficient"),
+    "omega0": (PITCH_ENTRY.omega0, "1", "Stiffness coefficient"),
+    "omega1": (PITCH_ENTRY.omega1, "1", "Damping coefficient"),
+    "f": (PITCH_ENTRY.f, "1", "Disturbance term"),
+    "mu": (PITCH_ENTRY.mu, "1", "Control coefficient (positive: the elevator laws divide by it)"),
 }
+PITCH_RANGES = {"mu": {"min": POSITIVE}}
+"""Declared ranges of those inputs."""
 """Inputs an elevator law of seed 003 may take from the PitchVehicle: (start, unit, description)
-of the perturbation, its xi-rate, xi and the coefficients of eq. (1.38)."""
+of the perturbation, its xi-rate, xi and the coefficients of eq. (1.38). The start values are the
+PitchVehicle's initial outputs (alpha(xi0) = 5 deg, Sec. 2.5.1, and PITCH_ENTRY), so a law run
+alone, or read by a tool before the first exchange, sees the seed-003 entry state."""
 
 
 def declare_pitch_measurements(slave, names):
     """Declare the PitchVehicle measurements `names` (keys of PITCH_MEASUREMENTS) as inputs."""
     for name in names:
-        slave.input(name, *PITCH_MEASUREMENTS[name])
+        slave.input(name, *PITCH_MEASUREMENTS[name], **PITCH_RANGES.get(name, {}))
 
 
 class EntryLatchedGuidance(AotvSlave):
@@ -85,15 +95,22 @@ class EntryLatchedGuidance(AotvSlave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.input("h", 90e3, "m", "Measured altitude (latched at initialization)")
-        self.input("v", 8200.0, "m/s", "Measured speed (latched at initialization)")
-        self.input("gamma", -0.02, "rad", "Measured flight-path angle (latched at initialization)")
+        h0, v0, gamma0 = self.entry_start
+        self.input("h", h0, "m", "Measured altitude (latched at initialization)", min=0.0)
+        self.input("v", v0, "m/s", "Measured speed (latched at initialization)", min=POSITIVE)
+        self.input("gamma", gamma0, "rad", "Measured flight-path angle (latched at initialization)",
+                   min=-math.pi / 2, max=math.pi / 2)
         self.integer_parameter("accept_unconverged", 0,
-                               "1: fly a solution whose solver did not converge; 0: stop with an error")
+                               "1: fly a solution whose solver did not converge; 0: stop with an error",
+                               min=0, max=1)
         self.time = 0.0
         self.latched = None
         self._cache_key = None
         self._cache = None
+
+    entry_start = ENTRY_000
+    """Start values of the inputs h (m), v (m/s), gamma (rad): the entry state of the law's seed
+    (seed 000 Table 4.1 here), so the FMU alone solves a problem of its own seed."""
 
     entry_inputs = ENTRY
     """Inputs the solve reads (extended by laws that measure more at entry)."""
@@ -182,9 +199,9 @@ class NominalTrackingGuidance(AotvSlave):
         self.parameter("gamma0_nom", gamma0, "rad", "Design entry flight-path angle of the nominal")
         self.parameter("tf", TF_000, "s", "Fixed final time of the nominal")
         declare_exit_targets_and_k(self)
-        self.input("h", h0, "m", "Measured altitude")
-        self.input("v", v0, "m/s", "Measured speed")
-        self.input("gamma", gamma0, "rad", "Measured flight-path angle")
+        self.input("h", h0, "m", "Measured altitude", min=0.0)
+        self.input("v", v0, "m/s", "Measured speed", min=POSITIVE)
+        self.input("gamma", gamma0, "rad", "Measured flight-path angle", min=-math.pi / 2, max=math.pi / 2)
         self.time = 0.0
         self._law = None
 

@@ -11,13 +11,22 @@ The master reads those dependencies to order components and to reject algebraic 
 get_real/set_real are overridden with precomputed getter/setter tables: the FMI call floor of a
 Python FMU is dominated by this per-call Python work.
 
-This module is bundled into every FMU (``aotv_cosim.fmu.build.RUNTIME``): it may import only pythonfmu,
-the standard library and other bundled modules.
+Physical ranges: every declaration may give `min`/`max` (SI, inclusive), written into the
+modelDescription; the master validates given values against them and stops a run whose output
+leaves its range (a vehicle's h below 0: impact). A tool may hold every input at 0 before its first
+exchange, outside the range of e.g. a measured speed (min `POSITIVE`): while an input lies outside
+its declared range, the outputs that depend on it (step or initialization dependencies) read 0,
+undefined rather than a failed call, until the tool gives a value in range.
+
+This module is bundled into every FMU (``aotv_cosim.fmu.build.RUNTIME``): it may import only
+pythonfmu, the standard library and other bundled modules.
 """
 
+import sys
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu.enums import Fmi2Status
 
 # SI base-unit exponents of every unit used at an FMU interface (FMI 2.0 BaseUnit attributes).
 UNIT_EXPONENTS = {
@@ -48,6 +57,10 @@ UNIT_EXPONENTS = {
     "N.m": {"kg": 1, "m": 2, "s": -2},
 }
 
+POSITIVE = sys.float_info.min
+"""Declared `min` of a quantity that must be strictly positive (a speed, a mass, an area, a
+radius): the smallest positive normal double, 2.2e-308."""
+
 XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}
 """xs:double spellings of the non-finite start values Python formats as inf/-inf/nan."""
 
@@ -69,39 +82,58 @@ class AotvSlave(Fmi2Slave):
         self._initial_deps = {}
         self._getters = {}
         self._setters = {}
+        self._ranges = {}
+        self._input_ranges = {}
+        self._inputs_checked = False
+        self._undefined = frozenset()
         self.start_time = 0.0
 
     # ---- declarations -------------------------------------------------------------------
-    def parameter(self, name, start, unit, description, tunable=False):
-        """Declare a Real parameter `name` (attribute of the same name) in `unit`."""
+    def parameter(self, name, start, unit, description, tunable=False, min=None, max=None):
+        """Declare a Real parameter `name` (attribute of the same name) in `unit`, optionally
+        within [min, max] (SI, inclusive)."""
         setattr(self, name, float(start))
         variability = Fmi2Variability.tunable if tunable else Fmi2Variability.fixed
         self._register(Real(name, causality=Fmi2Causality.parameter, variability=variability,
                             description=description), unit)
+        self._declare_range(name, min, max)
 
-    def integer_parameter(self, name, start, description):
-        """Declare an Integer parameter (a mode switch or a seed)."""
+    def integer_parameter(self, name, start, description, min=None, max=None):
+        """Declare an Integer parameter (a mode switch or a seed); min/max: its allowed codes."""
         setattr(self, name, int(start))
         self.register_variable(Integer(name, causality=Fmi2Causality.parameter,
                                        variability=Fmi2Variability.fixed,
                                        description=description))
+        self._declare_range(name, min, max)
 
-    def input(self, name, start, unit, description):
-        """Declare a continuous Real input `name` (attribute of the same name) in `unit`."""
+    def input(self, name, start, unit, description, min=None, max=None):
+        """Declare a continuous Real input `name` (attribute of the same name) in `unit`; outputs
+        depending on it read 0 while it lies outside [min, max] (module docstring)."""
         setattr(self, name, float(start))
         self._register(Real(name, causality=Fmi2Causality.input, description=description), unit)
+        self._declare_range(name, min, max)
+        if min is not None or max is not None:
+            self._input_ranges[name] = self._ranges[name]
 
-    def output(self, name, unit, description, getter, depends_on=(), initial_depends_on=None):
+    def output(self, name, unit, description, getter, depends_on=(), initial_depends_on=None,
+               min=None, max=None):
         """Declare a continuous Real output computed by `getter()` when it is read.
 
         depends_on: the inputs this output depends on at the same instant while stepping (direct
         feedthrough); initial_depends_on: the same in initialization mode (default depends_on).
+        min/max: its physical range; the master stops a run when it leaves it.
         """
         var = Real(name, causality=Fmi2Causality.output, description=description, getter=getter)
         self._register(var, unit)
+        self._declare_range(name, min, max)
         self._output_deps[name] = tuple(depends_on)
         self._initial_deps[name] = tuple(depends_on if initial_depends_on is None
                                          else initial_depends_on)
+
+    def _declare_range(self, name, low, high):
+        if low is not None or high is not None:
+            self._ranges[name] = (-float("inf") if low is None else low,
+                                  float("inf") if high is None else high)
 
     def _register(self, var, unit):
         if unit not in UNIT_EXPONENTS:
@@ -118,12 +150,41 @@ class AotvSlave(Fmi2Slave):
 
     def get_real(self, vrs):
         getters = self._getters
+        if not self._inputs_checked:
+            self._check_inputs()
+        if self._undefined:
+            undefined = self._undefined
+            return [0.0 if vr in undefined else getters[vr]() for vr in vrs]
         return [getters[vr]() for vr in vrs]
 
     def set_real(self, vrs, values):
         setters = self._setters
         for vr, value in zip(vrs, values):
             setters[vr](value)
+        self._inputs_checked = False
+
+    def step_refused(self):
+        """True, after logging why at fmi2Error, when an input lies outside its declared range: the
+        FMU's do_step then returns False without changing its state, which pythonfmu reports as
+        fmi2Discard (the step is not done, the instance stays usable; any Python exception would be
+        fmi2Fatal, pythonfmu 0.7 has no other status)."""
+        outside = [f"{name} = {getattr(self, name)!r} not in [{low:g}, {high:g}]"
+                   for name, (low, high) in self._input_ranges.items() if not low <= getattr(self, name) <= high]
+        if outside:
+            self.log(f"{type(self).__name__}: step refused, inputs outside their declared ranges: "
+                     f"{'; '.join(outside)}", Fmi2Status.error)
+        return bool(outside)
+
+    def _check_inputs(self):
+        """The value references of the outputs undefined because an input they depend on (while
+        stepping or initializing) lies outside its declared range."""
+        outside = {name for name, (low, high) in self._input_ranges.items()
+                   if not low <= getattr(self, name) <= high}
+        self._undefined = frozenset(
+            var.value_reference for var in self.vars.values() if var.name in self._output_deps
+            and outside.intersection(self._output_deps[var.name] + self._initial_deps[var.name])
+        ) if outside else frozenset()
+        self._inputs_checked = True
 
     # ---- model description ------------------------------------------------------------------
     def to_xml(self, model_options=dict()):
@@ -135,6 +196,11 @@ class AotvSlave(Fmi2Slave):
             real = node.find("Real")
             if unit:
                 real.set("unit", unit)
+            if node.get("name") in self._ranges:
+                typed = real if real is not None else node.find("Integer")
+                for attribute, bound in zip(("min", "max"), self._ranges[node.get("name")]):
+                    if abs(bound) != float("inf"):
+                        typed.set(attribute, repr(bound) if real is not None else str(int(bound)))
             if real is not None and real.get("start") in XSD_SPECIAL:
                 real.set("start", XSD_SPECIAL[real.get("start")])
         position = list(root).index(root.find("CoSimulation")) + 1

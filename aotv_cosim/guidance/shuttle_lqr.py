@@ -64,15 +64,17 @@ class NumericalLqr:
         """Backward Riccati, forward co-state (4.32) from (4.31); n output points on [0, xi_f]."""
         kfun = riccati_backward(coeffs, xi_f, r)
         p0 = np.linalg.solve(kfun(0.0), np.asarray(x0, dtype=float))
+        grid = np.linspace(0.0, xi_f, n)
+        ks = np.array([kfun(x) for x in grid])
+        if not p0.any():  # X(xi0) = 0: the co-state ODE is linear and homogeneous, p = 0 throughout
+            return cls(grid, np.zeros(n), np.zeros((n, 2)), ks)
 
         def rhs(xi, p):
             a = a_matrix(*coeffs(xi)[:2])
             return -(kfun(xi) + a.T) @ p
 
-        grid = np.linspace(0.0, xi_f, n)
         sol = solve_ivp(rhs, (0.0, xi_f), p0, method="LSODA", rtol=1e-10,
                         atol=1e-14 * np.abs(p0).max(), t_eval=grid)
-        ks = np.array([kfun(x) for x in grid])
         p = sol.y.T
         return cls(grid, -p[:, 1] / r, np.einsum("nij,nj->ni", ks, p), ks)
 

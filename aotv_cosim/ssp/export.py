@@ -5,7 +5,8 @@ inputs and outputs (kind = causality, type and SI unit, description), the units'
 exponents,
 the connections, a ParameterBinding per component that references its values in
 ``resources/<component>.ssv`` (the wiring's values with the scenario's overrides applied), and
-the default experiment: start and stop as attributes, the communication step in the OSP
+the default experiment: start and stop as attributes (a stop the system reaches, see
+`experiment`), the communication step in the OSP
 annotation libcosim reads (``osp:FixedStepAlgorithm baseStepSize``) and, with the master
 algorithm, in an aotv-cosim annotation. Both XML files are checked against the SSP 1.0 schemas
 FMPy ships. The archive is reproducible: members in sorted order with a fixed date, no
@@ -27,6 +28,7 @@ from xml.etree.ElementTree import Element, SubElement
 from aotv_cosim import __version__
 from aotv_cosim.engine.errors import BuildError, InputError
 from aotv_cosim.fmu.build import write_reproducible_zip
+from aotv_cosim.ssp.experiment import reachable_stop
 from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
                                 schema_problems)
 
@@ -202,8 +204,9 @@ def format_value(kind: str, value) -> str:
 
 
 def _default_experiment(root, scenario):
+    """Start, a stop the system reaches (`experiment.reachable_stop`), step and algorithm."""
     experiment = SubElement(root, q("ssd:DefaultExperiment"),
-                            {"startTime": repr(scenario.start), "stopTime": repr(scenario.stop)})
+                            {"startTime": repr(scenario.start), "stopTime": repr(reachable_stop(scenario))})
     annotations = SubElement(experiment, q("ssd:Annotations"))
     osp = SubElement(annotations, q("ssc:Annotation"), {"type": OSP_ANNOTATION})
     algorithm = SubElement(osp, q("osp:Algorithm"))

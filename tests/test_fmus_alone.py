@@ -1,0 +1,91 @@
+"""Every FMU alone, as a user of another FMI tool meets it (issue 14 items 1-4).
+
+Each FMU runs in its own subprocess (pythonfmu FMUs of one process share the first-imported copy
+of the bundled aotv_cosim) whose sys.path holds no aotv_cosim package: only the copy inside the
+FMU's resources can be imported.
+
+- `test_fmu_alone_on_its_defaults`: `fmpy.simulate_fmu` with the FMU's own start values and default
+  experiment instantiates, initializes, steps to the stop time and terminates, every output finite.
+- `test_fmu_outputs_finite_on_zero_inputs`: every input set to 0 (what a tool that starts its
+  connectors at 0 gives before the first exchange, e.g. FMPy's SSP simulator), every output read
+  in initialization mode is finite (all 25 FMUs in one subprocess: their extracted folders stay,
+  and they bundle the same runtime sources).
+"""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from aotv_cosim.fmu import build as fmu_build
+
+CLEAN_PATH = textwrap.dedent("""
+    import os, sys
+    sys.path[:] = [p for p in sys.path
+                   if not os.path.isfile(os.path.join(p or os.getcwd(), "aotv_cosim", "__init__.py"))]
+""")
+"""Prelude: drop every sys.path entry holding an aotv_cosim package (the source checkout, an
+editable install's path entry)."""
+
+ALONE = CLEAN_PATH + textwrap.dedent("""
+    import json, math
+    from fmpy import read_model_description, simulate_fmu
+    path = sys.argv[1]
+    md = read_model_description(path)
+    rows = simulate_fmu(path)
+    bundled = sys.modules["aotv_cosim"].__file__
+    outputs = [v.name for v in md.modelVariables if v.causality == "output"]
+    print(json.dumps({"end": float(rows["time"][-1]), "stop": float(md.defaultExperiment.stopTime),
+                      "not_finite": [n for n in outputs if not all(map(math.isfinite, rows[n]))],
+                      "aotv_cosim_from": bundled}))
+""")
+
+ZERO_INPUTS = CLEAN_PATH + textwrap.dedent("""
+    import json, math
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    not_finite = {}
+    for path in sys.argv[1:]:  # extracted folders are kept, so the FMUs may share one process
+        md = read_model_description(path)
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="zero")
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        inputs = [v.valueReference for v in md.modelVariables if v.causality == "input"]
+        fmu.setReal(inputs, [0.0] * len(inputs))
+        outputs = [v for v in md.modelVariables if v.causality == "output"]
+        values = fmu.getReal([v.valueReference for v in outputs])
+        fmu.freeInstance()
+        not_finite.update({f"{md.modelName}.{v.name}": x for v, x in zip(outputs, values) if not math.isfinite(x)})
+    print(json.dumps(not_finite))
+""")
+
+
+@pytest.fixture(scope="module")
+def built():
+    return fmu_build.build_all()
+
+
+def clean_run(script, fmus, tmp_path):
+    env = {"PATH": os.environ["PATH"], "OPENBLAS_NUM_THREADS": "1", "HOME": str(tmp_path)}
+    done = subprocess.run([sys.executable, "-c", script, *map(str, fmus)], check=False, capture_output=True, text=True,
+                          env=env, cwd=tmp_path, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("name", fmu_build.available_fmus())
+def test_fmu_alone_on_its_defaults(name, built, tmp_path):
+    result = clean_run(ALONE, [built[name]], tmp_path)
+    assert result["end"] == pytest.approx(result["stop"], abs=1e-9)
+    assert result["not_finite"] == []
+    assert "/resources/aotv_cosim/" in result["aotv_cosim_from"], result["aotv_cosim_from"]
+
+
+def test_fmu_outputs_finite_on_zero_inputs(built, tmp_path):
+    assert len(built) == 25
+    assert clean_run(ZERO_INPUTS, built.values(), tmp_path) == {}
