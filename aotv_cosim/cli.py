@@ -14,6 +14,7 @@ from pathlib import Path
 
 import click
 
+from aotv_cosim import cli_console as console
 from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
 from aotv_cosim.engine import interrupts
 from aotv_cosim.engine.errors import AotvError, InputError, SimulationError, ValidationFailed
@@ -63,79 +64,13 @@ def main(debug):
     _Context.debug = debug
 
 
-def _progress_bar(scenario):
-    from tqdm import tqdm
-
-    bar = tqdm(total=round(scenario.stop - scenario.start, 6), unit="s sim", delay=2.0,
-               file=sys.stderr, leave=False, bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s [{elapsed}<{remaining}]")
-
-    def update(t):
-        bar.n = round(t - scenario.start, 6)
-        bar.refresh() if bar.n >= bar.total else bar.update(0)
-
-    return bar, update
-
-
-def _finish_bar(bar, summary, start):
-    """Put the bar at 100 % of the simulated span when a stop condition ended the run, and keep a
-    bar that says why a run stopped early (stop condition, failure, interruption) when it is
-    closed. A bar never shown (a run shorter than its delay) stays hidden."""
-    if summary["status"] == "completed" and summary["end_time"] is not None:
-        bar.total = bar.n = round(summary["end_time"] - start, 6)
-    if summary["stop_reason"] != "stop time reached":
-        bar.set_postfix_str(summary["stop_reason"], refresh=False)
-        bar.leave = True
-
-
-def _print_summary(summary, out_dir):
-    click.echo(f"{Path(summary['scenario']).name}: {summary['status']} ({summary['stop_reason']}), "
-               f"{summary['steps']} steps in {summary['wall_time_s']:.3f} s")
-    _print_failure(summary)
-    if summary["event"]:
-        click.echo(f"  event at t = {summary['event']['time']:.6g} s")
-    names = list(summary["final"])
-    if names:
-        units = summary.get("units", {})
-        width = max(len(n) for n in names)
-        uwidth = max([len("unit")] + [len(units.get(n, "")) for n in names])
-        click.echo(f"  {'signal':<{width}}  {'unit':<{uwidth}}  {'final':>14}  {'min':>14}  {'max':>14}")
-        for n in names:
-            lo = summary["min"].get(n, {}).get("value", float("nan"))
-            hi = summary["max"].get(n, {}).get("value", float("nan"))
-            final = summary["final"][n]
-            final = f"{final:14.7g}" if isinstance(final, float) else f"{final:>14}"
-            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {final}  {lo:14.7g}  {hi:14.7g}")
-    _print_expectations(summary["expectations"])
-    click.echo(f"  results in {out_dir}")
-
-
-def _print_failure(summary):
-    """The failure line, the failing FMU's last log message, and any warnings (on stderr)."""
-    if summary["error"]:
-        click.echo(f"  failure: {summary['error']}")
-        log = (summary["error_detail"] or {}).get("fmu_log") or []
-        if log and log[-1].split(": ", 1)[-1] not in summary["error"]:
-            click.echo(f"  FMU log: {log[-1]}")
-    if summary["status"] == "interrupted":
-        click.echo(f"  interrupted at t = {summary['end_time']} s; partial results kept")
-    for warning in summary.get("warnings", []):
-        click.echo(f"warning: {warning}", err=True)
-
-
-def _print_expectations(results):
-    for r in results:
-        measured = "not measured" if r["measured"] is None else f"{r['measured']:.7g}"
-        click.echo(f"  [{'PASS' if r['passed'] else 'FAIL'}] {r['signal']} at {r['at']}: "
-                   f"{measured} vs {r['expected']:.7g} +- {r['allowed_error']:.3g}  ({r['source']})")
-
-
 def _run_one(scenario, out_dir, plots, formats=("csv",)):
     from aotv_cosim.engine.runner import run_scenario
 
-    bar, update = _progress_bar(scenario)
+    bar, update = console.progress_bar(scenario)
     try:
         summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots, formats=formats)
-        _finish_bar(bar, summary, scenario.start)
+        console.finish_bar(bar, summary, scenario.start)
     finally:
         bar.close()
     return summary, out_dir
@@ -176,7 +111,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
         loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
-        _print_summary(summary, out_dir)
+        console.print_summary(summary, out_dir)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
         if not all(r["passed"] for r in summary["expectations"]):
@@ -216,8 +151,8 @@ def check(paths, out, start, stop):
             failed += not ok
             click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
                        f"{summary['wall_time_s']:.2f} s)")
-            _print_failure(summary)
-            _print_expectations(summary["expectations"])
+            console.print_failure(summary)
+            console.print_expectations(summary["expectations"])
             if summary["status"] == "interrupted":
                 sys.exit(_exit_status(summary))
         click.echo(f"{len(candidates) - failed} passed, {failed} failed in {time.perf_counter() - t0:.1f} s")

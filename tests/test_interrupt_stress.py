@@ -26,7 +26,7 @@ from click.testing import CliRunner
 
 from aotv_cosim.engine import interrupts
 from aotv_cosim.cli import main
-from aotv_cosim.engine.master import CHUNK
+from aotv_cosim.engine.rows import CHUNK
 from conftest import ROOT, write_json
 from signaller import build_signaller
 
@@ -194,7 +194,7 @@ def test_a_time_without_its_row_is_dropped_at_the_flush():
 
     import numpy as np
 
-    from aotv_cosim.engine.master import Rows
+    from aotv_cosim.engine.rows import Rows
 
     class Master:
         values = (ctypes.c_double * 2)(1.0, 2.0)

@@ -43,12 +43,10 @@ import numpy as np
 
 from aotv_cosim.engine import interrupts, ordering
 from aotv_cosim.engine.errors import InputError, SimulationError
+from aotv_cosim.engine.fmi_calls import Call, Plan, bind, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance
+from aotv_cosim.engine.rows import CHUNK, Rows
 from aotv_cosim.engine.ranges import RangeWatch, range_watches
-
-CHUNK = 1000
-"""Communication points recorded between two flushes to the result files."""
-
 
 class Interrupted(Exception):
     """Raised before the next step (the loop) or batch (a campaign) once a SIGINT/SIGTERM was
@@ -78,63 +76,6 @@ def signals_to_read(scenario):
     wanted += [e.signal for e in scenario.expectations]
     wanted += [s for p in scenario.plots for s in p["signals"] + [p.get("x", "time")] if s != "time"]
     return list(dict.fromkeys(wanted))
-
-
-class _Call:
-    """One fmi2SetReal or fmi2GetReal call: value references, values, their places in the buffer.
-
-    Variables are sorted by the position of their values in the master's output buffer (an
-    input: its source's); when those positions are consecutive the value array is a view into
-    the buffer itself (no copy per step), otherwise `pairs` lists (value slot, buffer index)
-    copied before a set or after a get.
-    """
-
-    def __init__(self, inst, names, positions, values, alias=True):
-        ranked = sorted(zip(positions, names))
-        self.positions = [s for s, _ in ranked]
-        self.n = len(ranked)
-        self.vrs = (ctypes.c_uint * self.n)(*[inst.info.variables[name].vr for _, name in ranked])
-        first = self.positions[0] if ranked else 0
-        if alias and self.positions == list(range(first, first + self.n)):
-            self.vals = (ctypes.c_double * self.n).from_buffer(values, first * 8)
-            self.pairs = ()
-        else:
-            self.vals = (ctypes.c_double * max(self.n, 1))()
-            self.pairs = tuple(enumerate(self.positions))
-
-
-class _Plan:
-    """Arrays and index maps of one component, built once before stepping."""
-
-    def __init__(self, inst, outputs, values, offset):
-        self.inst = inst
-        self.n_out = len(outputs)
-        self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
-        self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
-        self.offset = offset
-
-
-def _bind(actions):
-    """(is_get, inst, component, C function, vrs, n, vals, pairs, name) per (kind, inst, _Call).
-
-    The C functions are looked up here, when the loop starts, so a wrapper put on an instance
-    after the plans were built (bench/run.py times every call) is the one called."""
-    return [(kind == "get", inst, inst.component, inst.raw_get_real if kind == "get" else inst.raw_set_real,
-             call.vrs, call.n, call.vals, call.pairs, "fmi2GetReal" if kind == "get" else "fmi2SetReal")
-            for kind, inst, call in actions]
-
-
-def _run(bound, values, t):
-    """Make the bound calls in order: a set copies its values in first, a get copies them out after."""
-    for is_get, inst, c, call, vrs, n, vals, pairs, what in bound:
-        if not is_get:
-            for i, j in pairs:
-                vals[i] = values[j]
-        if call(c, vrs, n, vals) > 1:
-            raise inst.failure(what, t)
-        if is_get:
-            for i, j in pairs:
-                values[j] = vals[i]
 
 
 class Master:
@@ -221,7 +162,7 @@ class Master:
         self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
         self.index, plans, offset = {}, [], 0
         for name in order:
-            plan = _Plan(self.instances[name], by_comp[name], self.values, offset)
+            plan = Plan(self.instances[name], by_comp[name], self.values, offset)
             for k, out in enumerate(by_comp[name]):
                 self.index[f"{name}.{out}"] = offset + k
             offset += plan.n_out
@@ -230,7 +171,7 @@ class Master:
         def call(kind, name, names, alias=True):
             where = [self.index[".".join(sources[(name, v)]) if kind == "set" else f"{name}.{v}"]
                      for v in names]
-            return _Call(self.instances[name], names, where, self.values, alias)
+            return Call(self.instances[name], names, where, self.values, alias)
 
         def calls(actions):
             return [(kind, self.instances[name], call(kind, name, names)) for kind, name, names in actions]
@@ -266,7 +207,7 @@ class Master:
             self._initialize()
             self._build_plans()
             self._read_all(s.start)
-            _run(_bind(self.start), self.values, s.start)
+            run_bound(bind(self.start), self.values, s.start)
             outcome.init_time = clock.perf_counter() - wall0
             rows.add(s.start)
             self._loop(rows, outcome)
@@ -310,7 +251,7 @@ class Master:
         before, with the exact values set; without re-reads the exact values are not set at all.
         """
         array = self.array
-        finish = _bind(self.finish)
+        finish = bind(self.finish)
         if self.scenario.inputs != "extrapolated":
             return finish, None
         lines = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
@@ -339,7 +280,7 @@ class Master:
         finish, extrapolate = self._end_of_sweep()
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
                      p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
-                     p.fresh.pairs, p.fresh.n, _bind(p.before)) for p in self.plans]
+                     p.fresh.pairs, p.fresh.n, bind(p.before)) for p in self.plans]
         jacobi = s.algorithm == "jacobi"
         every = s.record_every
         keep_time, keep_row = rows.times.append, rows.rows.append
@@ -367,7 +308,7 @@ class Master:
                     for (inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf,
                          before) in steppers:
                         if before:
-                            _run(before, values, t_new)
+                            run_bound(before, values, t_new)
                         if nf:
                             for i, j in pairs:
                                 fvals[i] = values[j]
@@ -378,7 +319,7 @@ class Master:
                             raise inst.failure("fmi2DoStep", t, status)
                         if n_out and get(c, ovrs, n_out, ovals) > 1:
                             raise inst.failure("fmi2GetReal", t_new)
-                _run(finish, values, t_new)
+                run_bound(finish, values, t_new)
                 if extrapolate is not None:
                     extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new)
                 done = k + 1
@@ -410,57 +351,3 @@ class Master:
                     progress(t_new)
         finally:
             outcome.steps = done
-
-
-class Rows:
-    """Recorded communication points flushed in chunks to `master.record`.
-
-    A row is kept as the bytes of the master's value buffer (one memcpy), made an array of rows
-    when the chunk is flushed."""
-
-    def __init__(self, master, outcome):
-        self.master = master
-        self.outcome = outcome
-        self.times, self.rows = [], []
-
-    def add(self, t):
-        """Record the communication point t now (the loop itself records every n-th step)."""
-        self.times.append(t)
-        self.rows.append(bytes(self.master.values))
-        if len(self.rows) >= CHUNK:
-            self.flush()
-
-    def flush(self):
-        """Pass the kept rows on; a time without its row (a KeyboardInterrupt raised between the
-        two appends, when signals are not deferred) is dropped, so times and rows always pair."""
-        n = min(len(self.times), len(self.rows))
-        del self.times[n:], self.rows[n:]
-        if not n:
-            return
-        width = len(self.master.array)
-        rows = np.frombuffer(b"".join(self.rows), dtype=np.float64).reshape(n, -1)[:, :width]
-        times = np.array(self.times)
-        self.times.clear()
-        self.rows.clear()
-        bad = ~np.isfinite(rows)
-        if bad.any():
-            r, col = np.argwhere(bad)[0]
-            self.master.record(times[:r + 1], rows[:r + 1])
-            raise self._non_finite(col, times[r])
-        self.master.record(times, rows)
-
-    def _non_finite(self, col, t):
-        signal = next(sig for sig, i in self.master.index.items() if i == col)
-        comp, var = signal.split(".", 1)
-        inst = self.master.instances[comp]
-        error = SimulationError(f"output {var} is not finite at t = {t:.6g} s",
-                                file=inst.info.path.name, entry=signal,
-                                fix="check the inputs and parameters of this component")
-        error.component, error.variable, error.time = comp, var, float(t)
-        return error
-
-    def event(self, cond, t0, t1, fraction, previous):
-        """The stop condition's crossing, linearly interpolated between two communication points."""
-        values = previous + fraction * (self.master.array - previous)
-        return {"signal": cond.signal, "threshold": cond.threshold, "time": t0 + fraction * (t1 - t0),
-                "values": {sig: float(values[i]) for sig, i in self.master.index.items()}}

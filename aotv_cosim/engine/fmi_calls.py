@@ -1,0 +1,64 @@
+"""The master's FMI calls, prepared once per run: value-reference and value arrays over one shared
+ctypes buffer (`Call`, `Plan`), bound to the instances' C entry points (`bind`) and made in order
+(`run_bound`). A value array whose buffer positions are consecutive is a view of the buffer, so
+the loop passes inputs and reads outputs without a copy per step.
+"""
+
+import ctypes
+
+
+class Call:
+    """One fmi2SetReal or fmi2GetReal call: value references, values, their places in the buffer.
+
+    Variables are sorted by the position of their values in the master's output buffer (an
+    input: its source's); when those positions are consecutive the value array is a view into
+    the buffer itself (no copy per step), otherwise `pairs` lists (value slot, buffer index)
+    copied before a set or after a get.
+    """
+
+    def __init__(self, inst, names, positions, values, alias=True):
+        ranked = sorted(zip(positions, names))
+        self.positions = [s for s, _ in ranked]
+        self.n = len(ranked)
+        self.vrs = (ctypes.c_uint * self.n)(*[inst.info.variables[name].vr for _, name in ranked])
+        first = self.positions[0] if ranked else 0
+        if alias and self.positions == list(range(first, first + self.n)):
+            self.vals = (ctypes.c_double * self.n).from_buffer(values, first * 8)
+            self.pairs = ()
+        else:
+            self.vals = (ctypes.c_double * max(self.n, 1))()
+            self.pairs = tuple(enumerate(self.positions))
+
+
+class Plan:
+    """Arrays and index maps of one component, built once before stepping."""
+
+    def __init__(self, inst, outputs, values, offset):
+        self.inst = inst
+        self.n_out = len(outputs)
+        self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
+        self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
+        self.offset = offset
+
+
+def bind(actions):
+    """(is_get, inst, component, C function, vrs, n, vals, pairs, name) per (kind, inst, Call).
+
+    The C functions are looked up here, when the loop starts, so a wrapper put on an instance
+    after the plans were built (bench/run.py times every call) is the one called."""
+    return [(kind == "get", inst, inst.component, inst.raw_get_real if kind == "get" else inst.raw_set_real,
+             call.vrs, call.n, call.vals, call.pairs, "fmi2GetReal" if kind == "get" else "fmi2SetReal")
+            for kind, inst, call in actions]
+
+
+def run_bound(bound, values, t):
+    """Make the bound calls in order: a set copies its values in first, a get copies them out after."""
+    for is_get, inst, c, call, vrs, n, vals, pairs, what in bound:
+        if not is_get:
+            for i, j in pairs:
+                vals[i] = values[j]
+        if call(c, vrs, n, vals) > 1:
+            raise inst.failure(what, t)
+        if is_get:
+            for i, j in pairs:
+                values[j] = vals[i]

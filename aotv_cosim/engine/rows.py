@@ -1,0 +1,65 @@
+"""Recorded communication points of a run: kept as the bytes of the master's value buffer and
+flushed in chunks to the run's `record` callback, with the first non-finite value found per chunk
+and blamed on the component that produced it.
+"""
+
+import numpy as np
+
+from aotv_cosim.engine.errors import SimulationError
+
+CHUNK = 1000
+"""Communication points recorded between two flushes to the result files."""
+
+
+class Rows:
+    """Recorded communication points flushed in chunks to `master.record`.
+
+    A row is kept as the bytes of the master's value buffer (one memcpy), made an array of rows
+    when the chunk is flushed."""
+
+    def __init__(self, master, outcome):
+        self.master = master
+        self.outcome = outcome
+        self.times, self.rows = [], []
+
+    def add(self, t):
+        """Record the communication point t now (the loop itself records every n-th step)."""
+        self.times.append(t)
+        self.rows.append(bytes(self.master.values))
+        if len(self.rows) >= CHUNK:
+            self.flush()
+
+    def flush(self):
+        """Pass the kept rows on; a time without its row (a KeyboardInterrupt raised between the
+        two appends, when signals are not deferred) is dropped, so times and rows always pair."""
+        n = min(len(self.times), len(self.rows))
+        del self.times[n:], self.rows[n:]
+        if not n:
+            return
+        width = len(self.master.array)
+        rows = np.frombuffer(b"".join(self.rows), dtype=np.float64).reshape(n, -1)[:, :width]
+        times = np.array(self.times)
+        self.times.clear()
+        self.rows.clear()
+        bad = ~np.isfinite(rows)
+        if bad.any():
+            r, col = np.argwhere(bad)[0]
+            self.master.record(times[:r + 1], rows[:r + 1])
+            raise self._non_finite(col, times[r])
+        self.master.record(times, rows)
+
+    def _non_finite(self, col, t):
+        signal = next(sig for sig, i in self.master.index.items() if i == col)
+        comp, var = signal.split(".", 1)
+        inst = self.master.instances[comp]
+        error = SimulationError(f"output {var} is not finite at t = {t:.6g} s",
+                                file=inst.info.path.name, entry=signal,
+                                fix="check the inputs and parameters of this component")
+        error.component, error.variable, error.time = comp, var, float(t)
+        return error
+
+    def event(self, cond, t0, t1, fraction, previous):
+        """The stop condition's crossing, linearly interpolated between two communication points."""
+        values = previous + fraction * (self.master.array - previous)
+        return {"signal": cond.signal, "threshold": cond.threshold, "time": t0 + fraction * (t1 - t0),
+                "values": {sig: float(values[i]) for sig, i in self.master.index.items()}}
