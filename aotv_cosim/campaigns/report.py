@@ -16,7 +16,7 @@ def statistics(rows, columns) -> dict:
     """{column: {n, mean, std, min, max, p1..p99}} over the completed runs."""
     stats = {}
     for name in columns:
-        if name in ("run", "status", "error"):
+        if name in ("run", "status", "error", "outcome", "outcome.reason"):
             continue
         x = _numeric(rows, name)
         if len(x):

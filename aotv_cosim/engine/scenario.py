@@ -85,6 +85,8 @@ class Scenario:
     """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
     dispersions: list = field(default_factory=list)
     scatter: list = field(default_factory=list)
+    outcome: "dict | None" = None
+    """Campaign outcome settings (`campaigns.outcome_rows`): runs are classified when given."""
     skipped: list = field(default_factory=list)
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
 
@@ -148,6 +150,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         dispersions=[Dispersion(signal, d["distribution"], d.get("mean"), d.get("std"), d.get("low"),
                                 d.get("high")) for signal, d in doc.get("dispersions", {}).items()],
         scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
+        outcome=doc.get("montecarlo", {}).get("outcome"),
     )
     _check_times(scenario)
     _check_signals(scenario, doc)
@@ -234,6 +237,12 @@ def _check_signals(s: Scenario, doc):
                                        entry=f"dispersions.{d.signal}", fix="swap or widen the bounds"))
     for k, signal in enumerate(s.scatter):
         check(signal, f"montecarlo.scatter[{k}]")
+    if s.outcome is not None:
+        vehicle = s.outcome.get("vehicle", "vehicle")
+        missing = [f"{vehicle}.{n}" for n in ("h", "v", "gamma") if f"{vehicle}.{n}" not in s.record]
+        if missing:
+            problems.append(InputError(f"classifying runs needs {', '.join(missing)} recorded", file=s.path,
+                                       entry="montecarlo.outcome", fix=f"add {', '.join(missing)} to record"))
     for k, p in enumerate(s.plots):
         for signal in p["signals"] + ([p["x"]] if p.get("x", "time") != "time" else []):
             check(signal, f"plots[{k}]")
