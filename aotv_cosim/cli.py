@@ -352,7 +352,8 @@ def build_fmus(out):
 @_time_options
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
-    from aotv_cosim.montecarlo.checks import check_reachable, check_resumable
+    from aotv_cosim.campaigns.checks import check_reachable, check_resumable
+    from aotv_cosim.campaigns.report_tables import console_table
     from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.engine.scenario import parse_sets
 
@@ -369,7 +370,9 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
-        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json")
+        click.echo(console_table(summary["three_sigma"], summary["units"], summary["outcomes"]))
+        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json,"
+                   f" tables and plots in {out_dir / 'report.md'}")
 
     _guard(body)
 

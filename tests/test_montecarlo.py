@@ -111,7 +111,7 @@ def test_fmus_run_in_this_process_do_not_shadow_the_package_for_spawned_workers(
 
     Master(load_scenario(CAMPAIGN), lambda times, rows: None).run()
     first = next(p for p in sys.path if (Path(p or ".") / "aotv_cosim" / "__init__.py").is_file())
-    assert (Path(first or ".") / "aotv_cosim" / "montecarlo").is_dir(), sys.path[:4]
+    assert (Path(first or ".") / "aotv_cosim" / "campaigns").is_dir(), sys.path[:4]
 
 
 def test_dispersion_of_a_non_parameter_is_an_input_error(tmp_path):

@@ -4,7 +4,7 @@ import time
 from pathlib import Path
 
 from aotv_cosim.engine.errors import InputError
-from aotv_cosim.campaigns import backends, report
+from aotv_cosim.campaigns import backends, campaign_report, report
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
@@ -35,6 +35,7 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
         raise InputError("the scenario declares no dispersions", file=scenario_path, entry="dispersions",
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
     names = columns(scenario)
+    campaign_report.chosen(scenario, names)  # refuse an unknown report column before any run
     manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
                 "dispersions": [d.__dict__ for d in scenario.dispersions],
                 **({"start": start, "stop": stop} if times else {})}
@@ -78,7 +79,7 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
                    for r in rows if r["status"] != "completed"][:50],
         "statistics": report.statistics(rows, names),
         "units": units,
-        "plots": report.plots(out, rows, scenario) if make_plots else [],
     }
+    summary.update(campaign_report.write(out, rows, scenario, units, names, make_plots))
     write_json_atomically(out / "summary.json", summary)
     return summary

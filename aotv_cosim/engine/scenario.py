@@ -87,6 +87,10 @@ class Scenario:
     scatter: list = field(default_factory=list)
     outcome: "dict | None" = None
     """Campaign outcome settings (`campaigns.outcome_rows`): runs are classified when given."""
+    report_columns: list = field(default_factory=list)
+    """Campaign columns of the report's table and histograms (`campaigns.campaign_report`)."""
+    versus: list = field(default_factory=list)
+    """Campaign (input, output) column pairs plotted against each other."""
     skipped: list = field(default_factory=list)
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
 
@@ -151,6 +155,8 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
                                 d.get("high")) for signal, d in doc.get("dispersions", {}).items()],
         scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
         outcome=doc.get("montecarlo", {}).get("outcome"),
+        report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
+        versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
     )
     _check_times(scenario)
     _check_signals(scenario, doc)
