@@ -4,6 +4,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from aotv_cosim.engine.dispersion_sets import dispersion_entries
 from aotv_cosim.engine.documents import load_document
 from aotv_cosim.engine.errors import InputError, raise_if_any
 from aotv_cosim.engine.paths import regular_file, resolved
@@ -152,7 +153,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         plots=list(doc.get("plots", [])),
         description=doc.get("description", ""),
         dispersions=[Dispersion(signal, d["distribution"], d.get("mean"), d.get("std"), d.get("low"),
-                                d.get("high")) for signal, d in doc.get("dispersions", {}).items()],
+                                d.get("high")) for signal, d in dispersion_entries(doc, path).items()],
         scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
         outcome=doc.get("montecarlo", {}).get("outcome"),
         report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
