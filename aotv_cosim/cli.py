@@ -377,6 +377,34 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
     _guard(body)
 
 
+@main.command()
+@click.argument("scenario_set", metavar="SET", type=UserPath(file_okay=False))
+@click.option("--runs", type=click.IntRange(min=1), default=1000, show_default=True, help="Runs per law.")
+@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Local worker processes.")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
+@click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
+def benchmark(scenario_set, runs, workers, seed, scheduler, out):
+    """Fly every law (scenario) of SET through the same dispersions; write a scorecard."""
+    from aotv_cosim.campaigns.benchmark import run_benchmark
+    from aotv_cosim.campaigns.benchmark_report import console
+    from aotv_cosim.campaigns.checks import check_reachable
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).name}-benchmark"
+        writable_folder(out_dir)
+        if scheduler:
+            check_reachable(scheduler)
+        result = _with_builds(lambda: run_benchmark(scenario_set, runs, out_dir, workers=workers, seed=seed,
+                                                    scheduler=scheduler))
+        click.echo(console(result["scorecard"], result["units"]))
+        click.echo(f"{len(result['scorecard'])} laws x {runs} runs in {result['wall_time_s']:.1f} s; scorecard.csv,"
+                   f" rows.csv, rows.parquet, report.md and plots in {out_dir}")
+
+    _guard(body)
+
+
 @main.command("export-ssp")
 @click.argument("scenario", type=UserPath(dir_okay=False))
 @click.option("-o", "--out", "out", required=True, type=UserPath(dir_okay=False),

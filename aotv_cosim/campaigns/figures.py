@@ -14,7 +14,7 @@ def label(name, units) -> str:
     return f"{name} [{unit}]" if unit else name
 
 
-def _axes_style(ax):
+def axes_style(ax):
     from matplotlib.ticker import MaxNLocator, ScalarFormatter
 
     for axis in (ax.xaxis, ax.yaxis):
@@ -57,7 +57,7 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
             ax.hist(x, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
             ax.set_xlabel(label(name, units), fontsize=8)
             ax.set_ylabel("runs", fontsize=8)
-            _axes_style(ax)
+            axes_style(ax)
         files.append(_save(fig, out_dir, "histograms.png"))
     pairs = [(a, b, *_pairs(rows, a, b)) for a, b in versus]
     pairs = [p for p in pairs if len(p[2]) > 1]
@@ -67,7 +67,7 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
             ax.plot(x, y, ".", ms=3, alpha=0.7)
             ax.set_xlabel(label(a, units), fontsize=8)
             ax.set_ylabel(label(b, units), fontsize=8)
-            _axes_style(ax)
+            axes_style(ax)
         files.append(_save(fig, out_dir, "versus.png"))
     if len(scenario.scatter) == 2:
         at = "exit" if scenario.stop_conditions else "final"
@@ -79,7 +79,7 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
             ax.plot(x, y, ".", ms=3, alpha=0.7, zorder=2, label=f"{len(x)} runs")
             ax.set_xlabel(label(a, units), fontsize=9)
             ax.set_ylabel(label(b, units), fontsize=9)
-            _axes_style(ax)
+            axes_style(ax)
             ax.legend(fontsize=8)
             files.append(_save(fig, out_dir, "scatter.png"))
     return files, notes
