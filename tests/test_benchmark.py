@@ -113,7 +113,7 @@ def _local_and_cluster(tmp_path, laws, runs):
 
 
 def test_40_run_benchmark_on_a_two_process_dask_cluster_equals_the_local_run(tmp_path):
-    rows = _local_and_cluster(tmp_path, ["time_linear", "predictive_adaptive"], 40)
+    rows = _local_and_cluster(tmp_path, ["time_linear", "robust"], 40)
     assert len(rows) == 80
 
 
