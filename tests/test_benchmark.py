@@ -1,5 +1,6 @@
 """Guidance benchmark (issue 16 items 5-6): every law of a set over the same draws, a scorecard
-with units, rows CSV + Parquet with a law column; identical rows on a multi-process Dask cluster."""
+with units, rows CSV + Parquet with a law column; identical rows on 1 and 2 local workers and on a
+multi-process Dask cluster."""
 
 import csv
 import json
@@ -8,7 +9,6 @@ import shutil
 import socket
 import subprocess
 import sys
-import time
 
 import pyarrow.parquet as pq
 import pytest
@@ -16,6 +16,7 @@ from click.testing import CliRunner
 
 from aotv_cosim.campaigns.benchmark import run_benchmark
 from aotv_cosim.cli import main
+from aotv_cosim.engine.errors import InputError
 from conftest import SCENARIOS, write_json
 
 BENCH = SCENARIOS / "benchmark_seed000"
@@ -65,6 +66,20 @@ def test_benchmark_of_a_folder_without_scenarios_is_an_input_error(tmp_path):
         f"error: {tmp_path / 'empty'}: the folder holds no scenario file; put one *.json scenario per law in it"]
 
 
+def test_a_law_that_does_not_classify_or_records_other_columns_is_refused_before_any_run(tmp_path):
+    folder = _small_set(tmp_path / "set", ["robust", "time_linear"])
+    doc = json.loads((folder / "time_linear.json").read_text())
+    doc["record"] = doc["record"][:-1]
+    write_json(folder / "time_linear.json", doc)
+    with pytest.raises(InputError, match="time_linear.json: record: its campaign columns differ from those of robust"):
+        run_benchmark(folder, 2, tmp_path / "o", progress=False)
+    del doc["montecarlo"]["outcome"]
+    write_json(folder / "time_linear.json", doc)
+    with pytest.raises(InputError, match="montecarlo: the scenario does not classify its runs"):
+        run_benchmark(folder, 2, tmp_path / "o", progress=False)
+    assert not (tmp_path / "o").exists()
+
+
 def _free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -107,6 +122,8 @@ def _local_and_cluster(tmp_path, laws, runs):
     folder = _small_set(tmp_path / "set", laws)
     run_benchmark(folder, runs, tmp_path / "local", workers=2, seed=11, progress=False)
     local = pq.read_table(tmp_path / "local" / "rows.parquet").to_pylist()
+    run_benchmark(folder, runs, tmp_path / "one", workers=1, seed=11, progress=False)
+    assert repr(pq.read_table(tmp_path / "one" / "rows.parquet").to_pylist()) == repr(local)  # 1 = 2 workers
     cluster = _cluster_rows(folder, runs, tmp_path / "dask")
     assert repr(local) == repr(cluster)  # every value the same (repr: nan equals nan)
     return local

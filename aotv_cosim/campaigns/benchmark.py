@@ -13,8 +13,6 @@ CPU per run is the CPU time (user + system) of the local worker processes, read 
 by the runs; on a Dask cluster the workers' CPU is not seen from here and it is None.
 """
 
-import json
-import math
 import resource
 from pathlib import Path
 
@@ -23,8 +21,10 @@ import numpy as np
 from aotv_cosim.campaigns.campaign import run_campaign
 from aotv_cosim.campaigns.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet
+from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.engine.results import write_json_atomically
+from aotv_cosim.engine.scenario import load_scenario
 
 PERCENT = (0.135, 50.0, 99.865)
 
@@ -40,7 +40,8 @@ whose value is finite (an unbound exit orbit has no finite apogee error)."""
 
 
 def scenarios_of(set_dir) -> list:
-    """The set's scenario files, sorted; InputError for an empty or unusable set."""
+    """The set's scenario files, sorted, checked before any run: each classifies its runs and all
+    give the same campaign columns. InputError for an empty or unusable set."""
     folder = Path(set_dir)
     if not folder.is_dir():
         raise InputError("not a folder", file=folder,
@@ -48,6 +49,16 @@ def scenarios_of(set_dir) -> list:
     paths = sorted(folder.glob("*.json"))
     if not paths:
         raise InputError("the folder holds no scenario file", file=folder, fix="put one *.json scenario per law in it")
+    first = None
+    for path in paths:
+        scenario = load_scenario(path)
+        if scenario.outcome is None:
+            raise InputError("the scenario does not classify its runs", file=path, entry="montecarlo",
+                             fix='add "montecarlo": {"outcome": {}} (and record the vehicle h, v, gamma)')
+        first = first or columns(scenario)
+        if columns(scenario) != first:
+            raise InputError(f"its campaign columns differ from those of {paths[0].name}", file=path,
+                             entry="record", fix="record the same signals and disperse the same values in every law")
     return paths
 
 
@@ -79,8 +90,13 @@ def score(law, rows, cpu_per_run) -> dict:
 
 
 def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, progress=True) -> dict:
-    """Fly every scenario of the set for `runs` runs; returns {"scorecard": [...], "units": {...},
-    "laws": {law: campaign summary}, "wall_time_s"} (also written as scorecard.json)."""
+    """Fly every scenario of the set for `runs` runs; returns (and writes as scorecard.json) the
+    set, runs, seed, "scorecard" (one dict per law), its "units", "wall_time_s" of all the
+    campaigns, "laws" ({law: {scenario, wall_time_s}}) and "plots"."""
+    import pyarrow.parquet as pq
+
+    from aotv_cosim.campaigns import benchmark_report
+
     paths = scenarios_of(set_dir)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -90,19 +106,11 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
         cpu0 = _cpu_seconds()
         summary = run_campaign(path, runs, out / law, workers=workers, seed=seed, scheduler=scheduler,
                                progress=progress)
-        if summary["outcomes"] is None:
-            raise InputError("the scenario does not classify its runs", file=path, entry="montecarlo",
-                             fix='add "montecarlo": {"outcome": {}} (and record the vehicle h, v, gamma)')
         cpu = (_cpu_seconds() - cpu0) / runs if scheduler is None else None
-        import pyarrow.parquet as pq
-
         rows = pq.read_table(out / law / "rows.parquet").to_pylist()
         cards.append(score(law, rows, cpu))
         laws[law] = summary
         names = names or ["law"] + list(rows[0])
-        if list(rows[0]) != names[1:]:
-            raise InputError("the scenario's campaign columns differ from the set's first law's", file=path,
-                             entry="record", fix="record the same signals and dispersions in every scenario of the set")
         units = {"law": "", **summary["units"]}
         every_row += [{"law": law, **r} for r in rows]
     units_of_scores = dict(score_columns())
@@ -112,8 +120,6 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
     _write_scorecard(out, cards, units_of_scores)
     write_parquet(every_row, names, out / "rows.parquet", units)
     _write_rows_csv(out / "rows.csv", every_row, names)
-    from aotv_cosim.campaigns import benchmark_report
-
     result["plots"] = benchmark_report.plots(out, {law: [r for r in every_row if r["law"] == law] for law in laws})
     (out / "report.md").write_text(benchmark_report.markdown(result, cards, units_of_scores))
     write_json_atomically(out / "scorecard.json", result)
