@@ -252,6 +252,7 @@ def build_fmus(out):
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
+    from aotv_cosim.campaigns.report_tables import console_table
     from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.engine.scenario import parse_sets
 
@@ -267,7 +268,9 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
-        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json")
+        click.echo(console_table(summary["three_sigma"], summary["units"], summary["outcomes"]))
+        click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json,"
+                   f" tables and plots in {out_dir / 'report.md'}")
         if summary["status"] == "interrupted":
             click.echo(f"  {summary['stop_reason']}: finished runs kept; --resume runs the others")
             sys.exit(_exit_status(summary))
@@ -276,6 +279,34 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
             click.echo(f"error: {scenario}: runs: none of the {runs} runs completed (run {first['run']}: "
                        f"{' '.join(str(first['error']).split())}); see the error column of rows.csv", err=True)
             sys.exit(1)
+
+    _guard(body)
+
+
+@main.command()
+@click.argument("scenario_set", metavar="SET", type=UserPath(file_okay=False))
+@click.option("--runs", type=click.IntRange(min=1), default=1000, show_default=True, help="Runs per law.")
+@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Local worker processes.")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
+@click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
+def benchmark(scenario_set, runs, workers, seed, scheduler, out):
+    """Fly every law (scenario) of SET through the same dispersions; write a scorecard."""
+    from aotv_cosim.campaigns.benchmark import run_benchmark
+    from aotv_cosim.campaigns.benchmark_report import console
+    from aotv_cosim.campaigns.checks import check_reachable
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).name}-benchmark"
+        writable_folder(out_dir)
+        if scheduler:
+            check_reachable(scheduler)
+        result = _with_builds(lambda: run_benchmark(scenario_set, runs, out_dir, workers=workers, seed=seed,
+                                                    scheduler=scheduler))
+        click.echo(console(result["scorecard"], result["units"]))
+        click.echo(f"{len(result['scorecard'])} laws x {runs} runs in {result['wall_time_s']:.1f} s; scorecard.csv,"
+                   f" rows.csv, rows.parquet, report.md and plots in {out_dir}")
 
     with interrupts.deferred():
         _guard(body)

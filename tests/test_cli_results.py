@@ -11,7 +11,8 @@ from click.testing import CliRunner
 from tqdm import tqdm
 
 from aotv_cosim.fmu import build as fmu_build
-from aotv_cosim.cli import _finish_bar, main
+from aotv_cosim.cli import main
+from aotv_cosim.cli_console import finish_bar
 from aotv_cosim.studies.compare import format_table, summarize
 from aotv_cosim.engine.scenario import load_scenario
 
@@ -115,13 +116,13 @@ def test_bar_ends_at_100_percent_and_says_why():
     bar.n = 287.5
     bar.update(0)
     summary = {"status": "completed", "end_time": 290.25, "stop_reason": "vehicle.h crossed 90000 up at t = 290.25 s"}
-    _finish_bar(bar, summary, 0.0)
+    finish_bar(bar, summary, 0.0)
     bar.close()
     last = out.getvalue().split("\r")[-1]
     assert "100%" in last and "crossed 90000 up" in last and last.endswith("\n")
     quiet = io.StringIO()
     bar = tqdm(total=400, file=quiet, leave=False, delay=60)  # a short run: never shown
-    _finish_bar(bar, summary, 0.0)
+    finish_bar(bar, summary, 0.0)
     bar.close()
     assert quiet.getvalue() == ""
 

@@ -8,8 +8,11 @@
   is retried run by run, and a run that still crashes is recorded with its error.
 - `store`: rows appended to rows.csv as they finish; resume skips finished runs; the final
   rows.csv and rows.parquet are sorted by run, identical to an uninterrupted campaign's.
-- `report`: percentiles (summary.json) and plots (histograms, exit-state scatter, 3-sigma ellipse).
+- `report`: percentiles (summary.json `statistics`) and the 3-sigma ellipse.
 - `units`: the unit of every column (summary.json `units`, rows.parquet field metadata).
+- `outcome_rows`, `report_tables`, `figures`, `campaign_report`: each run classified, the
+  3-sigma table and outcome counts (console, summary.json, report.md) and the labelled plots.
+- `benchmark`, `benchmark_report`: every law of a scenario set through the same draws, scorecard.
 """
 
 from aotv_cosim.campaigns.campaign import run_campaign

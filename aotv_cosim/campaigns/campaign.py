@@ -6,7 +6,7 @@ from pathlib import Path
 from aotv_cosim.engine import interrupts
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.engine.master import Interrupted
-from aotv_cosim.campaigns import backends, report
+from aotv_cosim.campaigns import backends, campaign_report, report
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
@@ -52,6 +52,7 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
 def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resume, sets, progress,
               make_plots, times):
     names = columns(scenario)
+    campaign_report.chosen(scenario, names)  # refuse an unknown report column before any run
     manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
                 "dispersions": [d.__dict__ for d in scenario.dispersions],
                 **({"start": times[0], "stop": times[1]} if times else {})}
@@ -100,7 +101,8 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
                    for r in rows if r["status"] != "completed"][:50],
         "statistics": report.statistics(rows, names),
         "units": units,
-        "plots": report.plots(out, rows, scenario) if make_plots and status == "completed" else [],
     }
+    summary.update(campaign_report.write(out, rows, scenario, units, names,
+                                         make_plots and status == "completed"))
     write_json_atomically(out / "summary.json", summary)
     return summary

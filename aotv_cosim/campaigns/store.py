@@ -13,7 +13,7 @@ from pathlib import Path
 
 from aotv_cosim.engine.errors import InputError
 
-TEXT = ("status", "error")
+TEXT = ("law", "status", "error", "outcome", "outcome.reason")
 INTEGER = ("run", "steps")
 
 

@@ -1,5 +1,6 @@
 """The unit of every campaign column (rows.csv, rows.parquet, summary.json statistics)."""
 
+from aotv_cosim.campaigns.outcome_rows import UNITS as OUTCOME_UNITS
 from aotv_cosim.engine.series import TIME_UNIT
 
 NO_UNIT = {"run": "", "status": "", "error": "", "steps": "1"}
@@ -13,6 +14,8 @@ def column_units(scenario, names) -> dict:
     for name in names:
         if name in NO_UNIT:
             units[name] = NO_UNIT[name]
+        elif name in OUTCOME_UNITS:
+            units[name] = OUTCOME_UNITS[name]
         elif name in ("end_time", "exit.time"):
             units[name] = TIME_UNIT
         else:

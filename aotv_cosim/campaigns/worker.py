@@ -10,6 +10,7 @@ import threading
 
 import numpy as np
 
+from aotv_cosim.campaigns import outcome_rows
 from aotv_cosim.engine.master import Master
 from aotv_cosim.engine.runner import recorded_columns
 from aotv_cosim.engine.scenario import load_scenario
@@ -25,6 +26,8 @@ def columns(scenario) -> list:
     names += [f"min.{s}" for s in signals] + [f"max.{s}" for s in signals]
     if scenario.stop_conditions:
         names += ["exit.time"] + [f"exit.{s}" for s in signals]
+    if scenario.outcome is not None:
+        names += list(outcome_rows.UNITS)
     return names
 
 
@@ -58,7 +61,14 @@ class Runner:
         self.pool = {}
 
     def run(self, run: int, values: dict) -> dict:
-        """The row of one run with the dispersed `values` ({'comp.var': value})."""
+        """The row of one run with the dispersed `values` ({'comp.var': value}), classified when
+        the scenario asks for outcomes."""
+        row = self._run(run, values)
+        if self.scenario.outcome is not None:
+            row.update(outcome_rows.outcome_columns(row, self.scenario.outcome))
+        return row
+
+    def _run(self, run: int, values: dict) -> dict:
         row = dict.fromkeys(self.columns, math.nan)
         row.update(run=run, status="error", error="")
         row.update({f"dispersed.{k}": v for k, v in values.items()})

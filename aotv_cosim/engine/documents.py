@@ -16,7 +16,7 @@ from aotv_cosim.engine.errors import InputError, raise_if_any
 from aotv_cosim.engine.paths import MAX_DOCUMENT_BYTES, regular_file
 
 SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
-           "compare": "compare.schema.json"}
+           "compare": "compare.schema.json", "dispersions": "dispersions.schema.json"}
 
 _FIXES = {
     "required": "add the missing field",

@@ -4,6 +4,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from aotv_cosim.engine.dispersion_sets import dispersion_entries
 from aotv_cosim.engine.documents import load_document
 from aotv_cosim.engine.errors import InputError, raise_if_any
 from aotv_cosim.engine.paths import regular_file, resolved
@@ -87,6 +88,12 @@ class Scenario:
     """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
     dispersions: list = field(default_factory=list)
     scatter: list = field(default_factory=list)
+    outcome: "dict | None" = None
+    """Campaign outcome settings (`campaigns.outcome_rows`): runs are classified when given."""
+    report_columns: list = field(default_factory=list)
+    """Campaign columns of the report's table and histograms (`campaigns.campaign_report`)."""
+    versus: list = field(default_factory=list)
+    """Campaign (input, output) column pairs plotted against each other."""
     skipped: list = field(default_factory=list)
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
 
@@ -148,8 +155,11 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         plots=list(doc.get("plots", [])),
         description=doc.get("description", ""),
         dispersions=[Dispersion(signal, d["distribution"], d.get("mean"), d.get("std"), d.get("low"),
-                                d.get("high")) for signal, d in doc.get("dispersions", {}).items()],
+                                d.get("high")) for signal, d in dispersion_entries(doc, path).items()],
         scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
+        outcome=doc.get("montecarlo", {}).get("outcome"),
+        report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
+        versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
     )
     _check_times(scenario)
     _check_signals(scenario, doc)
@@ -241,6 +251,12 @@ def _check_signals(s: Scenario, doc):
                                          entry=f"dispersions.{d.signal}")
     for k, signal in enumerate(s.scatter):
         check(signal, f"montecarlo.scatter[{k}]")
+    if s.outcome is not None:
+        vehicle = s.outcome.get("vehicle", "vehicle")
+        missing = [f"{vehicle}.{n}" for n in ("h", "v", "gamma") if f"{vehicle}.{n}" not in s.record]
+        if missing:
+            problems.append(InputError(f"classifying runs needs {', '.join(missing)} recorded", file=s.path,
+                                       entry="montecarlo.outcome", fix=f"add {', '.join(missing)} to record"))
     for k, p in enumerate(s.plots):
         for signal in p["signals"] + ([p["x"]] if p.get("x", "time") != "time" else []):
             check(signal, f"plots[{k}]")

@@ -1,0 +1,55 @@
+"""Outcome columns of a campaign row: each run classified by `outcome.classify` (issue 16 item 2).
+
+A scenario asks for them with `"montecarlo": {"outcome": {...}}` (target_apogee, band and floor in
+m, default the seed-000 criteria of `CaptureCriteria.seed000`; the vehicle and actuator component
+names). The row's own final/min/max/exit values are what is classified (`record_from_row`), so the
+scenario records the vehicle's h, v and gamma. The impact class comes from the row's minimum
+altitude: this master has no stop at the ground, so a run that sinks below it is classified after
+the fact, not stopped.
+"""
+
+from aotv_cosim.campaigns.outcome import CaptureCriteria, RunOutcome, classify, record_from_row
+
+CLASS, REASON = "outcome", "outcome.reason"
+"""The class column (one of outcome.OUTCOMES) and the text saying why."""
+
+UNITS = {CLASS: "", REASON: "", "outcome.apogee": "m", "outcome.perigee": "m",
+         "outcome.apogee_error": "m", "outcome.dv_circ": "m/s", "outcome.dv_total": "m/s",
+         "outcome.peak_heat_rate": "W/m2", "outcome.heat_load": "J/m2",
+         "outcome.peak_load_factor": "1", "outcome.int_abs_u": "m/s", "outcome.int_u2": "m2/s3",
+         "outcome.saturation_time": "s"}
+"""Every outcome column and its SI unit (the order is the rows' column order)."""
+
+REQUIRED = ("h", "v", "gamma")
+"""The vehicle signals the scenario must record for its runs to be classified."""
+
+
+def criteria(settings: dict) -> CaptureCriteria:
+    """CaptureCriteria of a scenario's `montecarlo.outcome` settings (seed-000 defaults)."""
+    base = CaptureCriteria.seed000(band=float(settings.get("band", 10e3)),
+                                   floor=float(settings.get("floor", 60e3)))
+    if "target_apogee" in settings:
+        return CaptureCriteria(float(settings["target_apogee"]), base.band, base.floor)
+    return base
+
+
+def outcome_columns(row: dict, settings: dict) -> dict:
+    """{column: value} of UNITS for one finished row (the class and its metrics)."""
+    c = criteria(settings)
+    record = record_from_row(row, c, settings.get("vehicle", "vehicle"), settings.get("actuator", "actuator"))
+    result: RunOutcome = classify(record, c)
+    values = result.as_dict()
+    values[CLASS] = values.pop("outcome.outcome")
+    return {name: values[name] for name in UNITS}
+
+
+def counts(rows) -> dict:
+    """{class: number of rows} over the rows that have a class, in outcome.OUTCOMES order."""
+    from aotv_cosim.campaigns.outcome import OUTCOMES
+
+    tally = dict.fromkeys(OUTCOMES, 0)
+    for r in rows:
+        if isinstance(r.get(CLASS), str) and r[CLASS] in tally:
+            tally[r[CLASS]] += 1
+    return tally
+

@@ -1,0 +1,91 @@
+"""Campaign report tables: 3-sigma statistics with units, outcome counts, console text, report.md.
+
+The 3-sigma-equivalent band of a column is its 0.135 and 99.865 percentiles (the probability
+outside +-3 sigma of a normal law, 0.27 %, split between the tails), read from the sample, not
+from mean +- 3 std, so a skewed or bounded column keeps its own tails. With fewer than about
+740 runs (1 / 0.00135) those percentiles are interpolated between the two extreme runs.
+"""
+
+import math
+
+import numpy as np
+
+from aotv_cosim.campaigns.outcome_rows import CLASS, counts
+
+BAND = (0.135, 50.0, 99.865)
+"""Percentiles of the tables: the 3-sigma-equivalent band and the median."""
+
+FIELDS = ("n", "mean", "std", "p0.135", "p50", "p99.865", "min", "max")
+
+
+def default_columns(scenario) -> list:
+    """The report's columns when the scenario names none (`montecarlo.columns`): the dispersed
+    inputs, the outcome metrics if runs are classified, else the exit (or final) values."""
+    names = [f"dispersed.{d.signal}" for d in scenario.dispersions]
+    if scenario.outcome is not None:
+        return names + ["outcome.apogee_error", "outcome.dv_total", "outcome.peak_heat_rate",
+                        "outcome.peak_load_factor", "outcome.int_abs_u"]
+    at = "exit" if scenario.stop_conditions else "final"
+    return names + [f"{at}.{s}" for s in scenario.record]
+
+
+def values(rows, name) -> np.ndarray:
+    """The finite values of a column over the completed runs."""
+    x = np.array([float(r[name]) for r in rows if r["status"] == "completed"], dtype=float)
+    return x[np.isfinite(x)]
+
+
+def three_sigma(rows, columns) -> dict:
+    """{column: {n, mean, std, p0.135, p50, p99.865, min, max}} over the completed runs (a
+    column without a finite value is left out)."""
+    table = {}
+    for name in columns:
+        x = values(rows, name)
+        if len(x):
+            p = np.percentile(x, BAND)
+            table[name] = dict(zip(FIELDS, (int(len(x)), float(x.mean()),
+                                            float(x.std(ddof=1)) if len(x) > 1 else 0.0,
+                                            *map(float, p), float(x.min()), float(x.max()))))
+    return table
+
+
+def _number(v) -> str:
+    if isinstance(v, int):
+        return str(v)
+    return "nan" if not math.isfinite(v) else f"{v:.6g}"
+
+
+def console_table(table: dict, units: dict, outcomes: dict = None) -> str:
+    """Plain-text statistics table (one line per column, unit beside the name) and the
+    outcome counts, as printed after a campaign."""
+    heads = ("column", "unit") + FIELDS
+    lines = [[name, units.get(name, "") or "-"] + [_number(s[f]) for f in FIELDS] for name, s in table.items()]
+    widths = [max(len(str(c)) for c in col) for col in zip(heads, *lines)]
+    text = ["  ".join(h.ljust(w) if k < 2 else h.rjust(w) for k, (h, w) in enumerate(zip(heads, widths)))]
+    text += ["  ".join(c.ljust(w) if k < 2 else c.rjust(w) for k, (c, w) in enumerate(zip(line, widths)))
+             for line in lines]
+    if outcomes:
+        total = sum(outcomes.values())
+        text.append("outcomes: " + ", ".join(f"{k} {n} ({100.0 * n / total:.1f} %)"
+                                             for k, n in outcomes.items()) if total else "outcomes: none")
+    return "\n".join(text)
+
+
+def markdown(title: str, table: dict, units: dict, outcomes: dict, plots, notes=()) -> str:
+    """report.md: the statistics table, the outcome counts, notes and the plots."""
+    out = [f"# {title}", "", "| column | unit | " + " | ".join(FIELDS) + " |",
+           "|---|---|" + "---:|" * len(FIELDS)]
+    out += [f"| `{name}` | {units.get(name, '') or '-'} | " + " | ".join(_number(s[f]) for f in FIELDS) + " |"
+            for name, s in table.items()]
+    out += ["", "p0.135 and p99.865 bound the 3-sigma-equivalent band (sample percentiles of the "
+                "completed runs)."]
+    if outcomes:
+        out += ["", "| outcome | runs |", "|---|---:|"] + [f"| {k} | {n} |" for k, n in outcomes.items()]
+    out += [""] + [f"- {n}" for n in notes] + ([""] if notes else [])
+    out += [f"![{p}]({p})" for p in plots]
+    return "\n".join(out) + "\n"
+
+
+def outcome_counts(rows, scenario):
+    """Outcome counts when the scenario classifies its runs, else None."""
+    return counts(rows) if scenario.outcome is not None and rows and CLASS in rows[0] else None
