@@ -1,8 +1,9 @@
 """NpcGuidance FMU: numerical predictor-corrector lift guidance for the seed-000 pass (FNPAG-like)."""
 
+import math
 import time as clock
 
-from aotv_cosim.fmu.slave import AotvSlave
+from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance import npc
 from aotv_cosim.physics import constants, point_mass
 from aotv_cosim.physics.planar import EXIT_000
@@ -29,12 +30,12 @@ class NpcGuidance(AotvSlave):
         super().__init__(**kwargs)
         d, m = npc.NpcSettings(), npc.PredictorModel()
         p = self.parameter
-        p("cycle_period", 2.0, "s", "Guidance cycle period")
-        p("tolerance", d.tolerance, "m", "Accepted |predicted apogee - target|")
-        self.integer_parameter("max_iter", d.max_iter, "Predictions per cycle (iteration limit)")
+        p("cycle_period", 2.0, "s", "Guidance cycle period", min=POSITIVE)
+        p("tolerance", d.tolerance, "m", "Accepted |predicted apogee - target|", min=POSITIVE)
+        self.integer_parameter("max_iter", d.max_iter, "Predictions per cycle (iteration limit)", min=1)
         p("apogee_target", d.apogee_target, "m", "Target apogee altitude (Table 4.1 exit orbit: LEO)")
         p("h_exit", EXIT_000[0], "m", "Atmospheric interface altitude of the exit")
-        p("predictor_step", d.step, "s", "RK4 step of the predictor")
+        p("predictor_step", d.step, "s", "RK4 step of the predictor", min=POSITIVE)
         p("horizon", d.horizon, "s", "Longest prediction")
         p("h_floor", d.h_floor, "m", "A prediction below this altitude does not exit")
         p("u_min", d.u_min, "m/s2", "Lower bound of the corrected command")
@@ -50,17 +51,17 @@ class NpcGuidance(AotvSlave):
         p("density_scale_prior", 1.0, "1", "Density scale assumed before the first measurement")
         p("rho_ref", m.rho_ref, "kg/m3", "Predictor density at h_ref (eq. 2.5)")
         p("h_ref", m.h_ref, "m", "Predictor reference altitude")
-        p("scale_height", m.scale_height, "m", "Predictor scale height H")
+        p("scale_height", m.scale_height, "m", "Predictor scale height H", min=POSITIVE)
         p("CD0", constants.CD0_000, "1", "Predictor parasite drag coefficient")
-        p("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Predictor mass over reference area")
+        p("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Predictor mass over reference area", min=POSITIVE)
         p("R_e", m.r_earth, "m", "Planet radius")
         self.integer_parameter("gravity_model", point_mass.GRAVITY_CONSTANT,
-                               "0: constant g0 (seed 000); 1: inverse square mu/r^2")
+                               "0: constant g0 (seed 000); 1: inverse square mu/r^2", min=0, max=1)
         p("g0", m.g0, "m/s2", "Constant gravity")
         p("mu", m.mu, "m3/s2", "Gravitational parameter (gravity 1 and the apogee)")
-        self.input("h", 90e3, "m", "Measured altitude")
-        self.input("v", 8200.0, "m/s", "Measured speed")
-        self.input("gamma", -0.02, "rad", "Measured flight-path angle")
+        self.input("h", 90e3, "m", "Measured altitude", min=0.0)
+        self.input("v", 8200.0, "m/s", "Measured speed", min=POSITIVE)
+        self.input("gamma", -0.02, "rad", "Measured flight-path angle", min=-math.pi / 2, max=math.pi / 2)
         out = self.output
         out("u", "m/s2", "Lift acceleration command", self.current_command, depends_on=MEASURED)
         out("u_c", "m/s2", "Corrected profile parameter of the last cycle", lambda: self._cycle()[0].u_c,
