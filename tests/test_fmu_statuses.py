@@ -1,12 +1,22 @@
 """FMI statuses of the FMUs (issue 14 item 7): a step refused on an input outside its declared
 range is fmi2Discard with the instance still usable, not fmi2Fatal."""
 
+import sys
+
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 
 from aotv_cosim.fmu import build as fmu_build
+
+
+@pytest.fixture(autouse=True)
+def own_sys_path(monkeypatch):
+    """pythonfmu puts each FMU's resources folder (a partial aotv_cosim) first on sys.path; these
+    raw FMPy instances must not leave it there for later tests (a spawned Dask worker would
+    import that copy: the master moves it last, `fmi_instance`)."""
+    monkeypatch.setattr(sys, "path", list(sys.path))
 
 
 def instance(name, messages):

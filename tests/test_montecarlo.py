@@ -61,6 +61,20 @@ def test_dask_local_cluster_gives_identical_rows(local_20, tmp_path):
     assert _rows(tmp_path) == _rows(local_out)
 
 
+def test_dask_cluster_without_workers_fails_instead_of_waiting():
+    """Workers that die at start (one that cannot import aotv_cosim) leave no worker: the campaign
+    fails with one line after the patience instead of waiting forever."""
+    from distributed import Client, LocalCluster
+
+    from aotv_cosim.campaigns import backends
+    from aotv_cosim.engine.errors import SimulationError
+
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
+        rows = backends.dask(str(CAMPAIGN), None, [[(0, {})]], client, ["run"], patience=1.0)
+        with pytest.raises(SimulationError, match="no worker for 1 s with 1 batch"):
+            list(rows)
+
+
 def test_resume_skips_finished_runs_and_ends_with_the_same_rows(local_20, tmp_path):
     _, local_out = local_20
     lines = _rows(local_out).splitlines(keepends=True)

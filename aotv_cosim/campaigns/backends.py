@@ -9,14 +9,19 @@ import concurrent.futures as cf
 import math
 import multiprocessing
 import os
+import time
 
 from aotv_cosim.engine import interrupts
+from aotv_cosim.engine.errors import SimulationError
 from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.campaigns.orphans import terminate, worker_started
 from aotv_cosim.campaigns.worker import run_batch
 
 POLL = 0.2
 """Seconds between two looks at the interruption flag while waiting for local batches."""
+NO_WORKER_PATIENCE = 60.0
+"""Seconds a Dask campaign waits with tasks pending and no worker in the cluster before it fails
+(workers that died at start, e.g. unable to import aotv_cosim, would leave it waiting forever)."""
 
 
 def crashed_row(columns, run, values, error) -> dict:
@@ -85,9 +90,33 @@ def local(scenario_path, sets, batches, workers, columns, times=None):
                 pool.shutdown(wait=True, cancel_futures=True)
 
 
-def dask(scenario_path, sets, batches, address, columns, times=None):
-    """Yield row lists from the Dask scheduler at `address` (a Client object is accepted too)."""
-    from distributed import Client, as_completed
+def _completed(client, futures, patience):
+    """The futures as they finish; SimulationError once the cluster has had no worker for
+    `patience` s while some are pending."""
+    from distributed import wait
+
+    pending, alone_since = set(futures), None
+    while pending:
+        try:
+            done, pending = wait(pending, timeout=min(5.0, patience), return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            done = set()
+        yield from done
+        if done or client.scheduler_info().get("workers"):
+            alone_since = None
+        elif alone_since is None:
+            alone_since = time.monotonic()
+        elif time.monotonic() - alone_since >= patience:
+            raise SimulationError(f"the Dask cluster has had no worker for {patience:g} s with "
+                                  f"{len(pending)} batch(es) pending", file=client.scheduler.address,
+                                  entry="--scheduler", fix="start workers that can import aotv_cosim "
+                                  "(see their logs), or run on local workers")
+
+
+def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO_WORKER_PATIENCE):
+    """Yield row lists from the Dask scheduler at `address` (a Client object is accepted too);
+    fail after `patience` s without a worker (`_completed`)."""
+    from distributed import Client
 
     client = address if isinstance(address, Client) else Client(address)
     try:
@@ -96,7 +125,7 @@ def dask(scenario_path, sets, batches, address, columns, times=None):
             futures = {client.submit(run_batch, scenario_path, sets, b, times, pure=False): tuple(b)
                        for b in queue}
             queue = []
-            for future in as_completed(futures):
+            for future in _completed(client, futures, patience):
                 batch = list(futures[future])
                 try:
                     yield future.result()
