@@ -34,8 +34,8 @@ def test_crafted_runs_are_classified(runner, values, outcome, reason):
     assert row["outcome"] == outcome and reason in row["outcome.reason"]
     if outcome == "captured":  # the nominal pass: exit apogee within 1 km of the Table 4.1 orbit's
         assert abs(row["outcome.apogee_error"]) < 1e3 and row["outcome.dv_total"] > 0
-    if outcome == "impact":
-        assert row["min.vehicle.h"] < 0
+    if outcome == "impact":  # the master stopped the run at the ground (status impact)
+        assert row["min.vehicle.h"] < 0 and row["status"] == "impact"
 
 
 def test_a_run_that_raises_is_failed_with_its_message(runner):

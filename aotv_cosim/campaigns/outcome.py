@@ -3,7 +3,7 @@
 A pure function of what a run reports (a Monte Carlo row or a run's summary.json), issue 16
 item 2. The rules, in this order:
 
-1. impact: the altitude went below zero (min h < 0), whatever stopped the run;
+1. impact: the altitude went below zero (min h < 0, or the master stopped the run at the ground);
 2. failed: the run did not complete (an FMU or solver failure, or an interruption): its message;
 3. undershoot: the altitude went below the floor, or the vehicle never left the atmosphere
    (no climbing crossing of the exit altitude), or the exit apogee is below the band;
@@ -124,7 +124,7 @@ def classify(run: RunRecord, c: CaptureCriteria) -> RunOutcome:
     def result(outcome, reason):
         return RunOutcome(outcome, reason, **metrics)
 
-    if run.min_altitude < 0.0:
+    if run.status == "impact" or run.min_altitude < 0.0:  # the master stops a run at the ground
         return result("impact", f"altitude below zero (min h = {run.min_altitude:.6g} m)")
     if run.status != "completed":
         return result("failed", run.error or f"run {run.status}")
