@@ -75,3 +75,13 @@ def faulty_fmu(tmp_path_factory):
     script = folder / "Faulty.py"
     script.write_text(FAULTY_SOURCE)
     return FmuBuilder.build_FMU(script, dest=folder / "Faulty.fmu")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def built_fmus():
+    """Every FMU of fmus_src built before the first test. A first build reports its progress on
+    the terminal, which tests of one-line errors and of printed file lists must not read (the
+    progress itself is tested with an empty cache in test_cli_results.py)."""
+    from aotv_cosim.fmu import build
+
+    build.build_all()

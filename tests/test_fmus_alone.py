@@ -1,8 +1,8 @@
 """Every FMU alone, as a user of another FMI tool meets it (issue 14 items 1-4).
 
 Each FMU runs in its own subprocess (pythonfmu FMUs of one process share the first-imported copy
-of the bundled aotv_cosim) whose sys.path holds no aotv_cosim package: only the copy inside the
-FMU's resources can be imported.
+of the bundled aotv_cosim) where an import finder lets aotv_cosim come only from an FMU's
+resources, however this package is installed.
 
 - `test_fmu_alone_on_its_defaults`: `fmpy.simulate_fmu` with the FMU's own start values and default
   experiment instantiates, initializes, steps to the stop time and terminates, every output finite.
@@ -23,12 +23,33 @@ import pytest
 from aotv_cosim.fmu import build as fmu_build
 
 CLEAN_PATH = textwrap.dedent("""
-    import os, sys
-    sys.path[:] = [p for p in sys.path
-                   if not os.path.isfile(os.path.join(p or os.getcwd(), "aotv_cosim", "__init__.py"))]
+    import importlib.machinery, os, sys
+
+    class BundledOnly:
+        \"\"\"aotv_cosim is imported only from an FMU's resources folder (pythonfmu puts it on sys.path).\"\"\"
+
+        def find_spec(self, name, path=None, target=None):
+            if name != "aotv_cosim":
+                return None
+            folders = [p for p in sys.path if os.path.basename(os.path.normpath(p or ".")) == "resources"]
+            spec = importlib.machinery.PathFinder.find_spec(name, folders)
+            if spec is None:
+                raise ModuleNotFoundError("aotv_cosim outside an FMU's resources")
+            return spec
+
+    sys.meta_path.insert(0, BundledOnly())
 """)
-"""Prelude: drop every sys.path entry holding an aotv_cosim package (the source checkout, an
-editable install's path entry)."""
+"""Prelude: aotv_cosim may come only from an FMU's resources, not from the source checkout, an
+editable install or site-packages (which also holds fmpy, so it stays on sys.path)."""
+
+EXIT = textwrap.dedent("""
+    sys.stdout.flush()
+    os._exit(0)
+""")
+"""Epilogue: leave without exit-time destructors. FMPy's freeInstance unloads pythonfmu's library
+without its finalizePythonInterpreter, so at exit its destructor may write into freed memory
+(`corrupted double-linked list`, docs/reliability.md; this package's master avoids it); that is
+FMPy's, not the FMU's, and these tests are about the FMU."""
 
 ALONE = CLEAN_PATH + textwrap.dedent("""
     import json, math
@@ -41,7 +62,8 @@ ALONE = CLEAN_PATH + textwrap.dedent("""
     print(json.dumps({"end": float(rows["time"][-1]), "stop": float(md.defaultExperiment.stopTime),
                       "not_finite": [n for n in outputs if not all(map(math.isfinite, rows[n]))],
                       "aotv_cosim_from": bundled}))
-""")
+""") + EXIT
+
 
 ZERO_INPUTS = CLEAN_PATH + textwrap.dedent("""
     import json, math
@@ -62,7 +84,8 @@ ZERO_INPUTS = CLEAN_PATH + textwrap.dedent("""
         fmu.freeInstance()
         not_finite.update({f"{md.modelName}.{v.name}": x for v, x in zip(outputs, values) if not math.isfinite(x)})
     print(json.dumps(not_finite))
-""")
+""") + EXIT
+
 
 
 @pytest.fixture(scope="module")
