@@ -6,6 +6,9 @@ resources, however this package is installed.
 
 - `test_fmu_alone_on_its_defaults`: `fmpy.simulate_fmu` with the FMU's own start values and default
   experiment instantiates, initializes, steps to the stop time and terminates, every output finite.
+- `test_fmu_state_round_trip`: every FMU declares canGetAndSetFMUstate (issue 17 item 4); after a
+  few steps on its defaults its state is saved, it steps on, is restored and steps again: the
+  outputs repeat to the bit, twice (a state can be restored more than once).
 - `test_fmu_outputs_finite_on_zero_inputs`: every input set to 0 (what a tool that starts its
   connectors at 0 gives before the first exchange, e.g. FMPy's SSP simulator), every output read
   in initialization mode is finite (every FMU in one subprocess: their extracted folders stay,
@@ -87,6 +90,44 @@ ZERO_INPUTS = CLEAN_PATH + textwrap.dedent("""
 """) + EXIT
 
 
+STATE_ROUND_TRIP = CLEAN_PATH + textwrap.dedent("""
+    import json, math
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    report = {}
+    for path in sys.argv[1:]:
+        md = read_model_description(path)
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="state")
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        outputs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
+        h, t = float(md.defaultExperiment.stepSize), 0.0
+
+        def run(n, t):
+            rows = []
+            for _ in range(n):
+                fmu.doStep(t, h)  # FMPy raises on a status above warning
+                t += h
+                rows.append(fmu.getReal(outputs))
+            return rows, t
+        _, t = run(3, t)
+        state = fmu.getFMUstate()
+        first, _ = run(4, t)
+        fmu.setFMUstate(state)
+        again, _ = run(4, t)
+        fmu.setFMUstate(state)
+        third, _ = run(4, t)
+        fmu.freeFMUstate(state)
+        fmu.terminate()
+        fmu.freeInstance()
+        report[md.modelName] = {"declared": md.coSimulation.canGetAndSetFMUstate,
+                                "repeats": first == again == third}
+    print(json.dumps(report))
+""") + EXIT
+
 
 @pytest.fixture(scope="module")
 def built():
@@ -112,3 +153,9 @@ def test_fmu_alone_on_its_defaults(name, built, tmp_path):
 def test_fmu_outputs_finite_on_zero_inputs(built, tmp_path):
     assert len(built) == len(fmu_build.available_fmus())
     assert clean_run(ZERO_INPUTS, built.values(), tmp_path) == {}
+
+
+def test_fmu_state_round_trip(built, tmp_path):
+    report = clean_run(STATE_ROUND_TRIP, built.values(), tmp_path)
+    assert set(report) == set(built)
+    assert {name: r for name, r in report.items() if not (r["declared"] and r["repeats"])} == {}

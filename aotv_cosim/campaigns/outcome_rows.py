@@ -3,9 +3,9 @@
 A scenario asks for them with `"montecarlo": {"outcome": {...}}` (target_apogee, band and floor in
 m, default the seed-000 criteria of `CaptureCriteria.seed000`; the vehicle and actuator component
 names). The row's own final/min/max/exit values are what is classified (`record_from_row`), so the
-scenario records the vehicle's h, v and gamma. The impact class comes from the row's minimum
-altitude: this master has no stop at the ground, so a run that sinks below it is classified after
-the fact, not stopped.
+scenario records the vehicle's h, v and gamma (and heat_load for the heat-load column). A run that
+reaches the ground is stopped there by the master's range watch on h (status impact) and
+classified impact.
 """
 
 from aotv_cosim.campaigns.outcome import CaptureCriteria, RunOutcome, classify, record_from_row

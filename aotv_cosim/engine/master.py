@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from aotv_cosim.engine import interrupts, ordering
+from aotv_cosim.engine import adaptive, interrupts, ordering
 from aotv_cosim.engine.errors import InputError, SimulationError
 from aotv_cosim.engine.fmi_calls import Call, Plan, bind, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance
@@ -67,6 +67,9 @@ class Outcome:
     init_time: float = 0.0
     loop_time: float = 0.0
     fmus: dict = field(default_factory=dict)
+    step_control: dict = None
+    """Error-controlled runs (`engine.adaptive`): steps accepted, rejected, kept at the min
+    bound, sweeps made, smallest and largest step (s)."""
 
 
 def signals_to_read(scenario):
@@ -74,6 +77,7 @@ def signals_to_read(scenario):
     wanted = [f"{c.source}.{c.output}" for c in scenario.system.connections]
     wanted += scenario.record + [c.signal for c in scenario.stop_conditions]
     wanted += [e.signal for e in scenario.expectations]
+    wanted += list(scenario.step_control.tolerance) if scenario.step_control else []
     wanted += [s for p in scenario.plots for s in p["signals"] + [p.get("x", "time")] if s != "time"]
     return list(dict.fromkeys(wanted))
 
@@ -239,16 +243,17 @@ class Master:
         return outcome
 
     def _end_of_sweep(self):
-        """(finish, extrapolate): what the loop does after the last component has stepped.
+        """(finish, extrapolate): what a sweep does after the last component has stepped.
 
         `finish` are the bound calls that set the inputs not yet set with their sources' values
         at the new communication point and re-read the outputs that feed through from them, in
         the order of `ordering.sweep`. With held inputs (default) `extrapolate` is None. With
-        extrapolated inputs it is `extrapolate(t, h, h_next)`, which then sets each delayed
+        extrapolated inputs it is `extrapolate(t, h, h_next, last)`, which then sets each delayed
         input to the mean over the coming step of the line through its source's last two
-        values, v + (h_next / 2) (v - v_prev) / h: the coupling error becomes second order in
-        the step for components that hold their inputs over a step. The re-reads are made
-        before, with the exact values set; without re-reads the exact values are not set at all.
+        values, v + (h_next / 2) (v - v_prev) / h, `last` holding the buffer one step (h) ago:
+        the coupling error becomes second order in the step for components that hold their
+        inputs over a step. The re-reads are made before, with the exact values set; without
+        re-reads the exact values are not set at all.
         """
         array = self.array
         finish = bind(self.finish)
@@ -257,31 +262,83 @@ class Master:
         lines = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
                   np.frombuffer(p.delayed.vals, dtype=np.float64)[:p.delayed.n],
                   np.array(p.delayed.positions, dtype=np.intp)) for p in self.plans if p.delayed.n]
-        last = array.copy()
 
-        def extrapolate(t, h, h_next):
+        def extrapolate(t, h, h_next, last):
             c_slope = 0.5 * h_next / h
             for inst, c, set_, vrs, vals, view, src in lines:
                 now = array[src]
                 view[:] = now + c_slope * (now - last[src])
                 if set_(c, vrs, len(src), vals) > 1:
                     raise inst.failure("fmi2SetReal", t)
-            last[:] = array
         return (finish if any(action[0] for action in finish) else []), extrapolate
 
+    def sweeper(self, finish):
+        """advance(t, step, t_new): one communication step of every component from t, values
+        exchanged as `ordering.sweep` says (Gauss-Seidel) or all after all stepped (Jacobi), then
+        the bound `finish` calls; the buffer then holds the outputs at t_new."""
+        values = self.values
+        steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
+                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
+                     p.fresh.pairs, p.fresh.n, bind(p.before)) for p in self.plans]
+
+        def jacobi(t, step, t_new):
+            for inst, c, do_step, get, set_, ovrs, ovals, n_out, *_ in steppers:
+                status = do_step(c, t, step, 1)
+                if status > 1:
+                    raise inst.failure("fmi2DoStep", t, status)
+            for inst, c, _do, get, set_, ovrs, ovals, n_out, *_ in steppers:
+                if n_out and get(c, ovrs, n_out, ovals) > 1:
+                    raise inst.failure("fmi2GetReal", t_new)
+            run_bound(finish, values, t_new)
+
+        def gauss_seidel(t, step, t_new):
+            for (inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf,
+                 before) in steppers:
+                if before:
+                    run_bound(before, values, t_new)
+                if nf:
+                    for i, j in pairs:
+                        fvals[i] = values[j]
+                    if set_(c, fvrs, nf, fvals) > 1:
+                        raise inst.failure("fmi2SetReal", t)
+                status = do_step(c, t, step, 1)
+                if status > 1:
+                    raise inst.failure("fmi2DoStep", t, status)
+                if n_out and get(c, ovrs, n_out, ovals) > 1:
+                    raise inst.failure("fmi2GetReal", t_new)
+            run_bound(finish, values, t_new)
+        return jacobi if self.scenario.algorithm == "jacobi" else gauss_seidel
+
+    def watches(self):
+        """(buffer index, threshold, direction, condition) of every stop condition and range watch."""
+        s = self.scenario
+        return [(self.index[c.signal], c.threshold, c.direction, c)
+                for c in [*s.stop_conditions, *range_watches(s.system, self.index)]]
+
+    def stop_at(self, rows, outcome, cond, up, event):
+        """End the run at a stop condition's crossing `event` (`Rows.event`): say why, and mark the
+        run impact or out_of_range when the condition is a RangeWatch."""
+        outcome.event = event
+        outcome.stop_reason = (f"{cond.signal} crossed {cond.threshold:g} "
+                               f"{'up' if up else 'down'} at t = {event['time']:.6g} s")
+        if isinstance(cond, RangeWatch):  # an output left its declared range
+            outcome.status = cond.status
+            outcome.error = f"{cond.message} at t = {event['time']:.6g} s"
+
     def _loop(self, rows, outcome):
+        if self.scenario.step_control is not None:
+            return adaptive.loop(self, rows, outcome)
         s = self.scenario
         values, array = self.values, self.array
         start, h, stop = s.start, s.step, s.stop
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
-        conditions = [(self.index[c.signal], c.threshold, c.direction, c)
-                      for c in [*s.stop_conditions, *range_watches(s.system, self.index)]]
-        previous = array.copy()
+        conditions = self.watches()
+        watched = [idx for idx, *_ in conditions]
+        before_values = [values[idx] for idx in watched]  # the watched signals at t
+        last_row = bytes(values)  # the whole buffer at t, for an event's interpolation
         finish, extrapolate = self._end_of_sweep()
-        steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
-                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
-                     p.fresh.pairs, p.fresh.n, bind(p.before)) for p in self.plans]
-        jacobi = s.algorithm == "jacobi"
+        advance = self.sweeper(finish)
+        last_values = array.copy()
         every = s.record_every
         keep_time, keep_row = rows.times.append, rows.rows.append
         progress = self.progress
@@ -296,55 +353,30 @@ class Master:
                 last = k == n_steps - 1
                 step = stop - t if last else h
                 t_new = stop if last else start + (k + 1) * h
-                if jacobi:
-                    for inst, c, do_step, get, set_, ovrs, ovals, n_out, *_ in steppers:
-                        status = do_step(c, t, step, 1)
-                        if status > 1:
-                            raise inst.failure("fmi2DoStep", t, status)
-                    for inst, c, _do, get, set_, ovrs, ovals, n_out, *_ in steppers:
-                        if n_out and get(c, ovrs, n_out, ovals) > 1:
-                            raise inst.failure("fmi2GetReal", t_new)
-                else:
-                    for (inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf,
-                         before) in steppers:
-                        if before:
-                            run_bound(before, values, t_new)
-                        if nf:
-                            for i, j in pairs:
-                                fvals[i] = values[j]
-                            if set_(c, fvrs, nf, fvals) > 1:
-                                raise inst.failure("fmi2SetReal", t)
-                        status = do_step(c, t, step, 1)
-                        if status > 1:
-                            raise inst.failure("fmi2DoStep", t, status)
-                        if n_out and get(c, ovrs, n_out, ovals) > 1:
-                            raise inst.failure("fmi2GetReal", t_new)
-                run_bound(finish, values, t_new)
+                advance(t, step, t_new)
                 if extrapolate is not None:
-                    extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new)
+                    extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new, last_values)
+                    last_values[:] = array
                 done = k + 1
-                for idx, threshold, direction, cond in conditions:
-                    before, now = previous[idx], values[idx]
+                for (idx, threshold, direction, cond), before in zip(conditions, before_values):
+                    now = values[idx]
                     up = before < threshold <= now
                     down = before > threshold >= now
                     if (up and direction != "down") or (down and direction != "up"):
                         fraction = (threshold - before) / (now - before)
-                        outcome.event = rows.event(cond, t, t_new, fraction, previous)
-                        outcome.stop_reason = (f"{cond.signal} crossed {threshold:g} "
-                                               f"{'up' if up else 'down'} at t = {outcome.event['time']:.6g} s")
-                        if isinstance(cond, RangeWatch):  # an output left its declared range
-                            outcome.status = cond.status
-                            outcome.error = f"{cond.message} at t = {outcome.event['time']:.6g} s"
+                        previous = np.frombuffer(last_row, dtype=np.float64)[:array.size]
+                        self.stop_at(rows, outcome, cond, up, rows.event(cond, t, t_new, fraction, previous))
                         rows.add(t_new)
                         return
                 if conditions:
-                    previous[:] = array
+                    before_values = [values[idx] for idx in watched]
+                    last_row = bytes(values)
                 if done % every == 0 or last or not (every == 1 or math.isfinite(sum(values))
                                                      or np.isfinite(array).all()):
                     # a step left out by record_every is kept if it holds the first non-finite
                     # value, so the chunk check blames the component that produced it, then
                     keep_time(t_new)
-                    keep_row(bytes(values))
+                    keep_row(last_row if conditions else bytes(values))
                     if len(rows.rows) >= CHUNK:
                         rows.flush()
                 if progress and k % report_every == 0:

@@ -126,6 +126,7 @@ def _simulate(scenario, open_series, progress):
         "start": scenario.start, "stop": scenario.stop, "step": scenario.step,
         "end_time": float(times[-1]) if len(times) else None,
         "steps": outcome.steps,
+        **({"step_control": outcome.step_control} if outcome.step_control is not None else {}),
         "wall_time_s": outcome.wall_time,
         "init_time_s": outcome.init_time,
         "us_per_step": (outcome.wall_time - outcome.init_time) / outcome.steps * 1e6 if outcome.steps else None,

@@ -7,6 +7,7 @@ from pathlib import Path
 from aotv_cosim.engine.dispersion_sets import dispersion_entries
 from aotv_cosim.engine.documents import load_document
 from aotv_cosim.engine.errors import InputError, raise_if_any
+from aotv_cosim.engine.step_control import StepControl, step_control
 from aotv_cosim.engine.paths import regular_file, resolved
 from aotv_cosim.engine.system import System, load_system
 from aotv_cosim.engine.ranges import check_dispersion
@@ -86,6 +87,8 @@ class Scenario:
     description: str = ""
     inputs: str = "held"
     """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
+    step_control: "StepControl | None" = None
+    """Error-controlled steps (`engine.step_control`); None: the fixed step `step`."""
     dispersions: list = field(default_factory=list)
     scatter: list = field(default_factory=list)
     outcome: "dict | None" = None
@@ -144,7 +147,9 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         path=path, system=system, start=float(doc.get("start", 0.0) if start is None else start),
         stop=float(doc["stop"] if stop is None else stop),
         step=float(step if step is not None else _step_options(doc)["size"]),
-        inputs=_step_options(doc).get("inputs", "held"),
+        inputs=_step_options(doc).get("inputs", "extrapolated" if "tolerance" in _step_options(doc) else "held"),
+        step_control=step_control(_step_options(doc), float(_step_options(doc)["size"]), path)
+        if step is None and isinstance(doc.get("step"), dict) else None,
         algorithm=doc.get("algorithm", "gauss-seidel"),
         stop_conditions=[StopCondition(c["signal"], float(c["crosses"]), c.get("direction", "either"))
                          for c in doc.get("stop_conditions", [])],
@@ -229,6 +234,16 @@ def _check_signals(s: Scenario, doc):
 
     for k, c in enumerate(s.stop_conditions):
         check(c.signal, f"stop_conditions[{k}].signal")
+    if s.step_control is not None:
+        for signal in s.step_control.tolerance:
+            check(signal, f"step.tolerance.{signal}")
+        stateless = [name for name, comp in s.system.components.items()
+                     if not comp.fmu.model_description.coSimulation.canGetAndSetFMUstate]
+        if stateless:
+            problems.append(InputError(f"{', '.join(stateless)} cannot save and restore its state "
+                                       "(canGetAndSetFMUstate is false), which a rejected step needs",
+                                       file=s.path, entry="step.tolerance",
+                                       fix="give a fixed step size, or use FMUs that declare canGetAndSetFMUstate"))
     for k, signal in enumerate(s.record):
         check(signal, f"record[{k}]")
     for k, e in enumerate(s.expectations):

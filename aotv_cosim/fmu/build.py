@@ -38,7 +38,7 @@ ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
-BUILD_FORMAT = "3: explicit variability, Linux binary loads in C hosts"
+BUILD_FORMAT = "4: explicit variability, Linux binary loads in C hosts, FMU state get/set"
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -165,8 +165,9 @@ def _pythonfmu_build(name: str, tmp: Path) -> Path:
         shutil.copyfile(path, dest)
     saved_path = list(sys.path)
     try:
+        # canGetAndSetFMUstate: AotvSlave snapshots its state (fmu/slave.py); not serializable
         return FmuBuilder.build_FMU(fmus_src_dir() / f"{name}.py", dest=tmp / f"{name}.fmu",
-                                    project_files=[stage])
+                                    project_files=[stage], canGetAndSetFMUstate=True)
     except Exception as exc:  # pythonfmu raises anything from the user's module
         raise BuildError(f"pythonfmu failed: {exc}", file=str(fmus_src_dir() / f"{name}.py"),
                          fix="fix the FMU module; run `aotv-cosim --debug build-fmus` for the traceback") from exc

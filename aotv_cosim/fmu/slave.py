@@ -8,8 +8,11 @@ on at the same instant, and writes them into the modelDescription it generates a
 ``dependencies`` (empty when an output depends only on the FMU's state) and ``InitialUnknowns``.
 The master reads those dependencies to order components and to reject algebraic loops.
 
-get_real/set_real are overridden with precomputed getter/setter tables: the FMI call floor of a
-Python FMU is dominated by this per-call Python work.
+get_real/set_real are overridden with precomputed tables: parameters and inputs are read and
+written in the instance dict directly (pythonfmu's own path makes two Python calls per value), and
+input ranges are checked once after a set, not per read: the FMI call floor of a Python FMU is
+dominated by this per-call Python work. `revision` counts the sets, so an adapter may cache a
+value computed from the inputs until the next set or step.
 
 Physical ranges: every declaration may give `min`/`max` (SI, inclusive), written into the
 modelDescription; the master validates given values against them and stops a run whose output
@@ -22,7 +25,9 @@ This module is bundled into every FMU (``aotv_cosim.fmu.build.RUNTIME``): it may
 pythonfmu, the standard library and other bundled modules.
 """
 
+import copy
 import sys
+from functools import partial
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
@@ -46,6 +51,7 @@ UNIT_EXPONENTS = {
     "m2/kg": {"kg": -1, "m": 2},
     "Pa": {"kg": 1, "m": -1, "s": -2},
     "W/m2": {"kg": 1, "s": -3},
+    "J/m2": {"kg": 1, "s": -2},
     "kg/(s.m)": {"kg": 1, "m": -1, "s": -1},
     "1/m": {"m": -1},
     "1/rad": {"rad": -1},
@@ -65,6 +71,33 @@ XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}
 """xs:double spellings of the non-finite start values Python formats as inf/-inf/nan."""
 
 
+_NOT_STATE = frozenset({
+    "vars", "log_queue", "instance_name", "resources", "visible", "guid", "_units", "_output_deps",
+    "_initial_deps", "_getters", "_names", "_ranges", "_input_ranges", "_ranged_vrs"})
+"""Instance attributes that are declarations or pythonfmu's own (its C++ side keeps a reference to
+`log_queue`): never part of a saved FMU state."""
+
+
+_SCALARS = frozenset({float, int, bool, str, bytes, type(None), frozenset})
+"""Immutable types kept as they are, checked first (most of an adapter's attributes)."""
+
+
+def _copied(value):
+    """value, copied one level when it holds state an adapter changes in place: a list, dict,
+    set or numpy array; an object whose class sets `MUTABLE_STATE` (an adaptive law whose
+    estimates it replaces: copy.copy); a tuple holding either (copied element-wise)."""
+    kind = type(value)
+    if kind in _SCALARS:
+        return value
+    if kind in (list, dict, set) or kind.__name__ == "ndarray":
+        return value.copy()
+    if isinstance(value, tuple):
+        return tuple(map(_copied, value))
+    if getattr(kind, "MUTABLE_STATE", False):
+        return copy.copy(value)
+    return value
+
+
 class AotvSlave(Fmi2Slave):
     """pythonfmu slave with declared units, dependencies and a fast value table.
 
@@ -81,11 +114,14 @@ class AotvSlave(Fmi2Slave):
         self._output_deps = {}
         self._initial_deps = {}
         self._getters = {}
-        self._setters = {}
+        self._names = {}
         self._ranges = {}
         self._input_ranges = {}
-        self._inputs_checked = False
+        self._ranged_vrs = set()
+        self._inputs_checked = True
+        self._outside = ()
         self._undefined = frozenset()
+        self.revision = 0  # not `version`: pythonfmu writes that attribute into the modelDescription
         self.start_time = 0.0
 
     # ---- declarations -------------------------------------------------------------------
@@ -110,10 +146,12 @@ class AotvSlave(Fmi2Slave):
         """Declare a continuous Real input `name` (attribute of the same name) in `unit`; outputs
         depending on it read 0 while it lies outside [min, max] (module docstring)."""
         setattr(self, name, float(start))
-        self._register(Real(name, causality=Fmi2Causality.input, description=description), unit)
+        var = self._register(Real(name, causality=Fmi2Causality.input, description=description), unit)
         self._declare_range(name, min, max)
         if min is not None or max is not None:
             self._input_ranges[name] = self._ranges[name]
+            self._ranged_vrs.add(var.value_reference)
+            self._inputs_checked = False
 
     def output(self, name, unit, description, getter, depends_on=(), initial_depends_on=None,
                min=None, max=None):
@@ -140,9 +178,12 @@ class AotvSlave(Fmi2Slave):
             raise ValueError(f"unit {unit!r} of {var.name} is not in UNIT_EXPONENTS")
         self.register_variable(var)
         self._units[var.name] = unit
-        self._getters[var.value_reference] = var.getter
-        if var.setter is not None:
-            self._setters[var.value_reference] = var.setter
+        if var.causality == Fmi2Causality.output:
+            self._getters[var.value_reference] = var.getter
+        else:  # a plain attribute: read and written in the instance dict, without a Python call
+            self._getters[var.value_reference] = partial(self.__dict__.__getitem__, var.name)
+            self._names[var.value_reference] = var.name
+        return var
 
     # ---- FMI calls ------------------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time, tolerance):
@@ -158,33 +199,56 @@ class AotvSlave(Fmi2Slave):
         return [getters[vr]() for vr in vrs]
 
     def set_real(self, vrs, values):
-        setters = self._setters
+        """Store the values in the instance dict; the range check is left to the next get or
+        step, and made only when an input with a declared range was set."""
+        state, names = self.__dict__, self._names
         for vr, value in zip(vrs, values):
-            setters[vr](value)
-        self._inputs_checked = False
+            state[names[vr]] = value
+        self.revision += 1
+        if self._inputs_checked and not self._ranged_vrs.isdisjoint(vrs):
+            self._inputs_checked = False
 
     def step_refused(self):
         """True, after logging why at fmi2Error, when an input lies outside its declared range: the
         FMU's do_step then returns False without changing its state, which pythonfmu reports as
         fmi2Discard (the step is not done, the instance stays usable; any Python exception would be
         fmi2Fatal, pythonfmu 0.7 has no other status)."""
-        outside = [f"{name} = {getattr(self, name)!r} not in [{low:g}, {high:g}]"
-                   for name, (low, high) in self._input_ranges.items() if not low <= getattr(self, name) <= high]
-        if outside:
-            self.log(f"{type(self).__name__}: step refused, inputs outside their declared ranges: "
-                     f"{'; '.join(outside)}", Fmi2Status.error)
-        return bool(outside)
+        if not self._inputs_checked:
+            self._check_inputs()
+        if not self._outside:
+            return False
+        ranges = self._input_ranges
+        self.log(f"{type(self).__name__}: step refused, inputs outside their declared ranges: "
+                 + "; ".join(f"{name} = {getattr(self, name)!r} not in [{ranges[name][0]:g}, "
+                             f"{ranges[name][1]:g}]" for name in self._outside), Fmi2Status.error)
+        return True
 
     def _check_inputs(self):
-        """The value references of the outputs undefined because an input they depend on (while
-        stepping or initializing) lies outside its declared range."""
-        outside = {name for name, (low, high) in self._input_ranges.items()
-                   if not low <= getattr(self, name) <= high}
-        self._undefined = frozenset(
-            var.value_reference for var in self.vars.values() if var.name in self._output_deps
-            and outside.intersection(self._output_deps[var.name] + self._initial_deps[var.name])
-        ) if outside else frozenset()
+        """Find the inputs outside their declared ranges and, when that set changed, the value
+        references of the outputs it leaves undefined (those depending on such an input while
+        stepping or initializing)."""
+        state = self.__dict__
+        outside = tuple(name for name, (low, high) in self._input_ranges.items()
+                        if not low <= state[name] <= high)
+        if outside != self._outside:
+            self._outside = outside
+            self._undefined = frozenset(
+                var.value_reference for var in self.vars.values() if var.name in self._output_deps
+                and set(outside).intersection(self._output_deps[var.name] + self._initial_deps[var.name]))
         self._inputs_checked = True
+
+    # ---- FMU state (fmi2GetFMUstate / fmi2SetFMUstate) ------------------------------------------
+    def _get_fmu_state(self):
+        """A snapshot of everything the instance computes with: every attribute but the
+        declarations and pythonfmu's own bookkeeping, lists, dicts, sets and arrays copied one
+        level deep by `_copied` (an adapter replaces or mutates its state at most one level deep;
+        tests/test_fmu_state.py checks every FMU). pythonfmu calls this for fmi2GetFMUstate."""
+        return {name: _copied(value) for name, value in self.__dict__.items()
+                if name not in _NOT_STATE}
+
+    def _set_fmu_state(self, state):
+        """Restore a `_get_fmu_state` snapshot (it stays usable: restored values are copies)."""
+        self.__dict__.update({name: _copied(value) for name, value in state.items()})
 
     # ---- model description ------------------------------------------------------------------
     def to_xml(self, model_options=dict()):

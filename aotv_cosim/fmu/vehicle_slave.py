@@ -87,6 +87,8 @@ class VehicleSlave(AotvSlave):
           lambda: orbit.inclination(self.x[2], self.x[5]))
         o("qdot", "W/m2", "Stagnation-point heating rate k_q rho^N v^M / sqrt(R_n)", self._heating,
           depends_on=("rho",))
+        o("heat_load", "J/m2", "Stagnation-point heat load, the time integral of qdot since the start "
+          "(trapezoidal over each step, density held as in the integration)", lambda: self.heat_load)
         o("qbar", "Pa", "Dynamic pressure rho v^2 / 2",
           lambda: aero.dynamic_pressure(self.rho, self.x[3]), depends_on=("rho",))
         o("lift_acc", "m/s2", "Lift specific force L/m", lambda: self._specific_forces()[0],
@@ -110,6 +112,8 @@ class VehicleSlave(AotvSlave):
     def reset_state(self):
         """Initial state from the parameters (called again when initialization ends)."""
         self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
+        self.heat_load = 0.0
+        self._forces = (-1, None)
 
     def enter_initialization_mode(self):
         self.reset_state()
@@ -124,14 +128,23 @@ class VehicleSlave(AotvSlave):
             return False
         args = (self.rho, *self.aero_forces(), self.sigma, self.gravity_model, self.g0, self.mu,
                 self.heading_model)
+        q_start = self._heating()
         self.x = point_mass.integrate(self.x, step_size, self.max_substep, args)
+        self.revision += 1
+        self.heat_load += 0.5 * step_size * (q_start + self._heating())
         return all(map(math.isfinite, self.x))
 
     # ---- outputs ----------------------------------------------------------------------------
     def _specific_forces(self):
-        lift_acc, cl_s_m, cd_s_m = self.aero_forces()
-        q_over_m = aero.dynamic_pressure(self.rho, self.x[3])
-        return lift_acc + q_over_m * cl_s_m, q_over_m * cd_s_m
+        """(L/m, D/m) in m/s^2 at the current state and inputs, computed once per `revision`
+        (three outputs read them)."""
+        revision, forces = self._forces
+        if revision != self.revision:
+            lift_acc, cl_s_m, cd_s_m = self.aero_forces()
+            q_over_m = aero.dynamic_pressure(self.rho, self.x[3])
+            forces = lift_acc + q_over_m * cl_s_m, q_over_m * cd_s_m
+            self._forces = (self.revision, forces)
+        return forces
 
     def _heating(self):
         return aero.stagnation_heating_rate(self.rho, self.x[3], self.k_q, self.q_rho_exp,

@@ -52,6 +52,9 @@ class AdaptiveLaw:
     conditional-integration option beyond the thesis, which never saturates (A-21).
     """
 
+    MUTABLE_STATE = True
+    """`adapt` replaces p_hat: an FMU's saved state holds a copy of this object (fmu/slave.py)."""
+
     def __init__(self, lam: float, gamma_diag, anti_windup: bool = False, p_hat=None):
         self.lam = float(lam)
         self.gamma = np.asarray(gamma_diag, dtype=float)

@@ -113,6 +113,9 @@ class AdaptiveLaw:
     Theta starts at Theta0 of Sec. 8.2.2; k_ball is the model's K used in A of (5.2).
     """
 
+    MUTABLE_STATE = True
+    """`advance` replaces theta: an FMU's saved state holds a copy of this object (fmu/slave.py)."""
+
     nominal: MinEffortSolution
     r_earth: float
     k_ball: float
