@@ -73,10 +73,9 @@ def test_the_exit_crossing_is_located_on_a_computed_state(tmp_path):
 def test_step_control_law():
     control = StepControl({"vehicle.h": 2.0}, 0.01, 10.0)
     assert control.error_ratio([0.0], [1.0], 5.0, 10.0) == pytest.approx(1.0)
-    assert control.next_step(1.0, 0.0, "held") == 4.0
-    assert control.next_step(1.0, 4.0, "held") == pytest.approx(0.225)
-    assert control.next_step(1.0, 4.0, "extrapolated") == pytest.approx(0.45)
-    assert control.next_step(0.02, 1e9, "held") == 0.01
+    assert control.next_step(1.0, 0.0) == 4.0
+    assert control.next_step(1.0, 4.0) == pytest.approx(0.45)
+    assert control.next_step(0.02, 1e9) == 0.01
 
 
 @pytest.mark.parametrize("step, cause", [
@@ -84,6 +83,7 @@ def test_step_control_law():
     ({"size": 0.5, "tolerance": {"vehicle.nope": 1.0}}, "not an output"),
     ({"size": 0.5, "tolerance": {"vehicle.h": 1.0}, "min": 1.0}, "min <= size"),
     ({"size": 0.5, "max": 2.0}, "without step.tolerance"),
+    ({"size": 0.5, "tolerance": {"vehicle.h": 1.0}, "inputs": "held"}, "held inputs"),
 ])
 def test_bad_step_control_is_one_line_exit_2(tmp_path, step, cause):
     doc = json.loads(NOMINAL.read_text())

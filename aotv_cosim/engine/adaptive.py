@@ -36,8 +36,10 @@ class _Saved:
         master.array[:] = self.buffer
 
     def free(self):
+        """Free the states, except on an instance that failed (`FmuInstance.close` says why)."""
         for inst, handle in zip(self.instances, self.handles):
-            inst.free_state(handle)
+            if not inst.broken:
+                inst.free_state(handle)
 
 
 def loop(master, rows, outcome):
@@ -86,7 +88,7 @@ def loop(master, rows, outcome):
                         break
                     stats["rejected"] += 1
                     saved.restore(master, t)
-                    h = control.next_step(h, ratio, s.inputs)
+                    h = control.next_step(h, ratio)
                 t_end = s.stop if h == remaining else t + h
                 points = ((saved.buffer, t, middle, t + 0.5 * h), (middle, t + 0.5 * h, array, t_end))
                 for k, (before, t0, after, t1) in enumerate(points):
@@ -109,7 +111,7 @@ def loop(master, rows, outcome):
             finally:
                 saved.free()
             earlier, h_earlier = middle, 0.5 * h
-            t, h = t_end, control.next_step(h, ratio, s.inputs)
+            t, h = t_end, control.next_step(h, ratio)
     finally:
         if not math.isfinite(stats["smallest"]):
             stats["smallest"] = None

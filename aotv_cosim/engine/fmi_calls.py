@@ -20,6 +20,7 @@ class Call:
         ranked = sorted(zip(positions, names))
         self.positions = [s for s, _ in ranked]
         self.n = len(ranked)
+        self.size = ctypes.c_size_t(self.n)  # passed to C as is (`FmuInstance` entry points)
         self.vrs = (ctypes.c_uint * self.n)(*[inst.info.variables[name].vr for _, name in ranked])
         first = self.positions[0] if ranked else 0
         if alias and self.positions == list(range(first, first + self.n)):
@@ -36,6 +37,7 @@ class Plan:
     def __init__(self, inst, outputs, values, offset):
         self.inst = inst
         self.n_out = len(outputs)
+        self.out_size = ctypes.c_size_t(self.n_out)
         self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
         self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
         self.offset = offset
@@ -47,7 +49,7 @@ def bind(actions):
     The C functions are looked up here, when the loop starts, so a wrapper put on an instance
     after the plans were built (bench/run.py times every call) is the one called."""
     return [(kind == "get", inst, inst.component, inst.raw_get_real if kind == "get" else inst.raw_set_real,
-             call.vrs, call.n, call.vals, call.pairs, "fmi2GetReal" if kind == "get" else "fmi2SetReal")
+             call.vrs, call.size, call.vals, call.pairs, "fmi2GetReal" if kind == "get" else "fmi2SetReal")
             for kind, inst, call in actions]
 
 

@@ -197,7 +197,7 @@ class Master:
     # ---- stepping ----------------------------------------------------------------------------
     def _read_all(self, t):
         for p in self.plans:
-            if p.n_out and p.inst.raw_get_real(p.inst.component, p.out_vrs, p.n_out, p.out_vals) > 1:
+            if p.n_out and p.inst.raw_get_real(p.inst.component, p.out_vrs, p.out_size, p.out_vals) > 1:
                 raise p.inst.failure("fmi2GetReal", t)
 
     def run(self) -> Outcome:
@@ -255,20 +255,21 @@ class Master:
         inputs over a step. The re-reads are made before, with the exact values set; without
         re-reads the exact values are not set at all.
         """
-        array = self.array
         finish = bind(self.finish)
         if self.scenario.inputs != "extrapolated":
             return finish, None
-        lines = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.vals,
-                  np.frombuffer(p.delayed.vals, dtype=np.float64)[:p.delayed.n],
-                  np.array(p.delayed.positions, dtype=np.intp)) for p in self.plans if p.delayed.n]
+        values = self.values
+        lines = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.size,
+                  p.delayed.vals, tuple(enumerate(p.delayed.positions)))
+                 for p in self.plans if p.delayed.n]
 
         def extrapolate(t, h, h_next, last):
             c_slope = 0.5 * h_next / h
-            for inst, c, set_, vrs, vals, view, src in lines:
-                now = array[src]
-                view[:] = now + c_slope * (now - last[src])
-                if set_(c, vrs, len(src), vals) > 1:
+            for inst, c, set_, vrs, size, vals, slots in lines:
+                for i, j in slots:  # a few values: plain floats cost less than numpy here
+                    now = values[j]
+                    vals[i] = now + c_slope * (now - last[j])
+                if set_(c, vrs, size, vals) > 1:
                     raise inst.failure("fmi2SetReal", t)
         return (finish if any(action[0] for action in finish) else []), extrapolate
 
@@ -278,33 +279,37 @@ class Master:
         the bound `finish` calls; the buffer then holds the outputs at t_new."""
         values = self.values
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
-                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.fresh.vrs, p.fresh.vals,
-                     p.fresh.pairs, p.fresh.n, bind(p.before)) for p in self.plans]
+                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.out_size, p.fresh.vrs,
+                     p.fresh.vals, p.fresh.pairs, p.fresh.n, p.fresh.size, bind(p.before))
+                    for p in self.plans]
+        now, length, new_step = ctypes.c_double(), ctypes.c_double(), ctypes.c_int(1)
 
         def jacobi(t, step, t_new):
-            for inst, c, do_step, get, set_, ovrs, ovals, n_out, *_ in steppers:
-                status = do_step(c, t, step, 1)
+            now.value, length.value = t, step
+            for inst, c, do_step, get, set_, ovrs, ovals, n_out, osize, *_ in steppers:
+                status = do_step(c, now, length, new_step)
                 if status > 1:
                     raise inst.failure("fmi2DoStep", t, status)
-            for inst, c, _do, get, set_, ovrs, ovals, n_out, *_ in steppers:
-                if n_out and get(c, ovrs, n_out, ovals) > 1:
+            for inst, c, _do, get, set_, ovrs, ovals, n_out, osize, *_ in steppers:
+                if n_out and get(c, ovrs, osize, ovals) > 1:
                     raise inst.failure("fmi2GetReal", t_new)
             run_bound(finish, values, t_new)
 
         def gauss_seidel(t, step, t_new):
-            for (inst, c, do_step, get, set_, ovrs, ovals, n_out, fvrs, fvals, pairs, nf,
-                 before) in steppers:
+            now.value, length.value = t, step
+            for (inst, c, do_step, get, set_, ovrs, ovals, n_out, osize, fvrs, fvals, pairs, nf,
+                 fsize, before) in steppers:
                 if before:
                     run_bound(before, values, t_new)
                 if nf:
                     for i, j in pairs:
                         fvals[i] = values[j]
-                    if set_(c, fvrs, nf, fvals) > 1:
+                    if set_(c, fvrs, fsize, fvals) > 1:
                         raise inst.failure("fmi2SetReal", t)
-                status = do_step(c, t, step, 1)
+                status = do_step(c, now, length, new_step)
                 if status > 1:
                     raise inst.failure("fmi2DoStep", t, status)
-                if n_out and get(c, ovrs, n_out, ovals) > 1:
+                if n_out and get(c, ovrs, osize, ovals) > 1:
                     raise inst.failure("fmi2GetReal", t_new)
             run_bound(finish, values, t_new)
         return jacobi if self.scenario.algorithm == "jacobi" else gauss_seidel
@@ -338,7 +343,8 @@ class Master:
         last_row = bytes(values)  # the whole buffer at t, for an event's interpolation
         finish, extrapolate = self._end_of_sweep()
         advance = self.sweeper(finish)
-        last_values = array.copy()
+        last_values = type(values).from_buffer_copy(values)  # the buffer one step ago
+        size = ctypes.sizeof(values)
         every = s.record_every
         keep_time, keep_row = rows.times.append, rows.rows.append
         progress = self.progress
@@ -356,7 +362,7 @@ class Master:
                 advance(t, step, t_new)
                 if extrapolate is not None:
                     extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new, last_values)
-                    last_values[:] = array
+                    ctypes.memmove(last_values, values, size)
                 done = k + 1
                 for (idx, threshold, direction, cond), before in zip(conditions, before_values):
                     now = values[idx]

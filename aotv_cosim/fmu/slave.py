@@ -228,8 +228,13 @@ class AotvSlave(Fmi2Slave):
         references of the outputs it leaves undefined (those depending on such an input while
         stepping or initializing)."""
         state = self.__dict__
-        outside = tuple(name for name, (low, high) in self._input_ranges.items()
-                        if not low <= state[name] <= high)
+        for name, (low, high) in self._input_ranges.items():
+            if not low <= state[name] <= high:
+                outside = tuple(name for name, (low, high) in self._input_ranges.items()
+                                if not low <= state[name] <= high)
+                break
+        else:  # the usual case: every input in range
+            outside = ()
         if outside != self._outside:
             self._outside = outside
             self._undefined = frozenset(
