@@ -32,12 +32,18 @@ class Call:
 
 
 class Plan:
-    """Arrays and index maps of one component, built once before stepping."""
+    """Arrays and index maps of one component, built once before stepping.
 
-    def __init__(self, inst, outputs, values, offset):
+    The last `stale` outputs are re-read later in each sweep (they feed through from an input
+    set after the component stepped): the get after its step reads only the others
+    (`n_fresh_out`), so those outputs are not computed twice per step."""
+
+    def __init__(self, inst, outputs, values, offset, stale=0):
         self.inst = inst
         self.n_out = len(outputs)
         self.out_size = ctypes.c_size_t(self.n_out)
+        self.n_fresh_out = self.n_out - stale
+        self.fresh_out_size = ctypes.c_size_t(self.n_fresh_out)
         self.out_vrs = (ctypes.c_uint * self.n_out)(*[inst.info.variables[o].vr for o in outputs])
         self.out_vals = (ctypes.c_double * self.n_out).from_buffer(values, offset * 8)
         self.offset = offset

@@ -158,15 +158,17 @@ class Master:
         # Outputs re-read after the step go last, so that their re-reads are views of the buffer.
         reread = {(comp, o) for _, comp, names in self._sweep_actions(sweep) if _ == "get"
                   for o in names}
+        stale = {}
         for name in order:
             tail = [o for o in by_comp[name] if (name, o) in reread]
             by_comp[name] = [o for o in by_comp[name] if o not in tail] + tail
+            stale[name] = len(tail)
         total = sum(len(v) for v in by_comp.values())
         self.values = (ctypes.c_double * max(total, 1))()
         self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
         self.index, plans, offset = {}, [], 0
         for name in order:
-            plan = Plan(self.instances[name], by_comp[name], self.values, offset)
+            plan = Plan(self.instances[name], by_comp[name], self.values, offset, stale[name])
             for k, out in enumerate(by_comp[name]):
                 self.index[f"{name}.{out}"] = offset + k
             offset += plan.n_out
@@ -279,9 +281,9 @@ class Master:
         the bound `finish` calls; the buffer then holds the outputs at t_new."""
         values = self.values
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
-                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_out, p.out_size, p.fresh.vrs,
-                     p.fresh.vals, p.fresh.pairs, p.fresh.n, p.fresh.size, bind(p.before))
-                    for p in self.plans]
+                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_fresh_out, p.fresh_out_size,
+                     p.fresh.vrs, p.fresh.vals, p.fresh.pairs, p.fresh.n, p.fresh.size,
+                     bind(p.before)) for p in self.plans]
         now, length, new_step = ctypes.c_double(), ctypes.c_double(), ctypes.c_int(1)
 
         def jacobi(t, step, t_new):
