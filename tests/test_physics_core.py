@@ -65,3 +65,27 @@ def test_actuator_pass_through_lag_rate_and_saturation():
     assert advance(0.0, 1.0, 0.5, 0.5, math.inf) == pytest.approx(1.0 - math.exp(-1.0))
     assert advance(0.0, 1.0, 0.1, 0.0, 2.0) == pytest.approx(0.2)
     assert saturate(5.0, -1.0, 1.0) == 1.0 and saturate(-5.0, -1.0, 1.0) == -1.0
+
+
+def test_planar_rk4_step_equals_the_general_step_to_the_bit():
+    """`point_mass._rk4_planar` (phi = psi = sigma = 0) gives exactly the general RK4 step's
+    numbers: the vehicle FMUs' fast path changes no result."""
+    import math
+    import random
+
+    from aotv_cosim.physics import point_mass as pm
+
+    rng = random.Random(1)
+    for _ in range(2000):
+        x = [6.378e6 + rng.uniform(6e4, 1.2e5), rng.uniform(-1, 1), 0.0, rng.uniform(3e3, 9e3),
+             rng.uniform(-0.1, 0.1), 0.0]
+        rho, lift, cl, cd = rng.uniform(0, 1e-3), rng.uniform(-5, 5), rng.uniform(0, 1e-3), rng.uniform(0, 1e-3)
+        gravity, heading, dt = rng.choice([0, 1]), rng.choice([0, 1]), rng.uniform(0.01, 1.0)
+        held = (rho, lift, cl, cd, math.cos(0.0), math.sin(0.0), gravity, 9.81, 3.986e14, heading)
+        half = 0.5 * dt
+        a = pm._rates(x, *held)
+        b = pm._rates([xi + half * ai for xi, ai in zip(x, a)], *held)
+        c = pm._rates([xi + half * bi for xi, bi in zip(x, b)], *held)
+        d = pm._rates([xi + dt * ci for xi, ci in zip(x, c)], *held)
+        general = [xi + dt / 6.0 * (ai + 2.0 * bi + 2.0 * ci + di) for xi, ai, bi, ci, di in zip(x, a, b, c, d)]
+        assert pm._rk4_planar(x, dt, rho, lift, cl, cd, gravity, 9.81, 3.986e14) == general
