@@ -46,3 +46,48 @@ def test_step_on_out_of_range_input_is_discard_and_instance_survives():
     assert fmu.getReal([vr["xi"]])[0] > 0.0
     fmu.terminate()
     fmu.freeInstance()
+
+
+def test_an_fmu_logs_through_fmpy_after_this_package_freed_its_instances(tmp_path):
+    """FMPy's native logger proxy calls the last Python logger registered with it, for every FMU
+    on FMPy's default callbacks. A run's instances are freed, then such an FMU logs an error: the
+    logger it reaches must still exist (it was freed with its instance: a segmentation fault).
+    In a subprocess, so a crash is a return code."""
+    import subprocess
+    import textwrap
+
+    from conftest import NOMINAL
+
+    script = textwrap.dedent(f"""
+        import gc
+        from fmpy import extract, read_model_description
+        from fmpy.fmi1 import FMICallException
+        from fmpy.fmi2 import FMU2Slave
+        from aotv_cosim.engine.master import Master
+        from aotv_cosim.engine.scenario import load_scenario
+        from aotv_cosim.fmu import build
+        for _ in range(3):
+            Master(load_scenario({str(NOMINAL)!r}), lambda t, r: None).run()
+        gc.collect()
+        path = str(build.ensure_fmu("PitchVehicle"))
+        md = read_model_description(path)
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="late")
+        fmu.instantiate(loggingOn=True)
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        v = [x.valueReference for x in md.modelVariables if x.name == "v"]
+        fmu.setReal(v, [0.0])
+        for _ in range(20):
+            try:
+                fmu.doStep(0.0, 0.02)  # refused: logs an error through the proxy
+            except FMICallException:
+                pass
+        print("survived", flush=True)
+        import os
+        os._exit(0)  # FMPy's own exit-time abort (docs/reliability.md) is not this test's subject
+    """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
+                          cwd=tmp_path)
+    assert done.returncode == 0 and "survived" in done.stdout, done.stderr[-2000:]

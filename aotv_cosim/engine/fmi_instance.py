@@ -15,7 +15,7 @@ import weakref
 from pathlib import Path
 
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, printLogMessage)
 from fmpy import calloc, free
 
 from aotv_cosim.fmu import build as fmu_build
@@ -29,6 +29,27 @@ _LISTENERS = weakref.WeakValueDictionary()
 logger for the whole process (the last one registered), so each message is routed to its
 instance by the componentEnvironment the FMU passes back, not by the closure that receives it."""
 _NUMBERS = itertools.count(1)
+
+
+def _route_log(env, instance, status, category, message):
+    """The one logger of every FmuInstance: the message goes to the instance whose
+    componentEnvironment number `env` is; one from an FMU this module did not instantiate (FMPy's
+    default callbacks, env NULL) to FMPy's own printLogMessage."""
+    owner = _LISTENERS.get(env or 0)
+    if owner is None:
+        printLogMessage(env, instance, status, category, message)
+        return
+    text = message.decode("utf-8", "replace") if message else ""
+    owner.messages.append((STATUS.get(status, str(status)), text.strip()))
+
+
+_LOGGER = fmi2CallbackLoggerTYPE(_route_log)
+_ALLOCATE, _FREE = fmi2CallbackAllocateMemoryTYPE(calloc), fmi2CallbackFreeMemoryTYPE(free)
+"""Kept for the life of the process: FMPy's native logger proxy holds the last Python logger
+registered with it in one global and calls it for every FMU that uses the proxy, FMPy's default
+callbacks included. A logger per instance is freed with its instance, after which the proxy
+called freed memory (a segmentation fault in the next FMU to log through it). The memory
+callbacks are kept the same way, for an FMU that frees after its instance is gone."""
 
 
 _DIGESTS = {}
@@ -109,17 +130,10 @@ class FmuInstance:
     def _make_callbacks(self):
         number = next(_NUMBERS)
         _LISTENERS[number] = self
-
-        def logger(env, instance, status, category, message):
-            text = message.decode("utf-8", "replace") if message else ""
-            owner = _LISTENERS.get(env or 0, self)
-            owner.messages.append((STATUS.get(status, str(status)), text.strip()))
-
         callbacks = fmi2CallbackFunctions()
         callbacks.componentEnvironment = number
-        callbacks.logger = fmi2CallbackLoggerTYPE(logger)
-        callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        callbacks.logger = _LOGGER
+        callbacks.allocateMemory, callbacks.freeMemory = _ALLOCATE, _FREE
         try:
             from fmpy.logging import addLoggerProxy
 
