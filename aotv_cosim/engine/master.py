@@ -162,7 +162,9 @@ class Master:
         for name in order:
             tail = [o for o in by_comp[name] if (name, o) in reread]
             by_comp[name] = [o for o in by_comp[name] if o not in tail] + tail
-            stale[name] = len(tail)
+            # Gauss-Seidel sets no input from them before their re-read; Jacobi sets every input
+            # from the values read right after the steps, so it reads them all there.
+            stale[name] = 0 if s.algorithm == "jacobi" else len(tail)
         total = sum(len(v) for v in by_comp.values())
         self.values = (ctypes.c_double * max(total, 1))()
         self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
