@@ -68,18 +68,27 @@ ALONE = CLEAN_PATH + textwrap.dedent("""
 """) + EXIT
 
 
-ZERO_INPUTS = CLEAN_PATH + textwrap.dedent("""
+INITIALIZING = textwrap.dedent("""
     import json, math
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
-    not_finite = {}
-    for path in sys.argv[1:]:  # extracted folders are kept, so the FMUs may share one process
+
+    def initializing(path, name):
+        \"\"\"(model description, FMU instance in initialization mode from t = 0).\"\"\"
         md = read_model_description(path)
         fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
-                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="zero")
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         fmu.instantiate()
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
+        return md, fmu
+""")
+"""Prelude of the multi-FMU scripts (extracted folders are kept, so the FMUs may share one process)."""
+
+ZERO_INPUTS = CLEAN_PATH + INITIALIZING + textwrap.dedent("""
+    not_finite = {}
+    for path in sys.argv[1:]:
+        md, fmu = initializing(path, "zero")
         inputs = [v.valueReference for v in md.modelVariables if v.causality == "input"]
         fmu.setReal(inputs, [0.0] * len(inputs))
         outputs = [v for v in md.modelVariables if v.causality == "output"]
@@ -90,18 +99,10 @@ ZERO_INPUTS = CLEAN_PATH + textwrap.dedent("""
 """) + EXIT
 
 
-STATE_ROUND_TRIP = CLEAN_PATH + textwrap.dedent("""
-    import json, math
-    from fmpy import extract, read_model_description
-    from fmpy.fmi2 import FMU2Slave
+STATE_ROUND_TRIP = CLEAN_PATH + INITIALIZING + textwrap.dedent("""
     report = {}
     for path in sys.argv[1:]:
-        md = read_model_description(path)
-        fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
-                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="state")
-        fmu.instantiate()
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
+        md, fmu = initializing(path, "state")
         fmu.exitInitializationMode()
         outputs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
         h, t = float(md.defaultExperiment.stepSize), 0.0

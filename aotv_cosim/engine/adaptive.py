@@ -17,6 +17,8 @@ event row is a communication point the FMUs computed.
 import math
 
 from aotv_cosim.engine import interrupts
+from aotv_cosim.engine.interrupts import Interrupted
+from aotv_cosim.engine.scenario import crossing
 
 EVENT_ITERATIONS = 8
 """Most steps taken to locate a crossing."""
@@ -44,8 +46,6 @@ class _Saved:
 
 def loop(master, rows, outcome):
     """The error-controlled counterpart of Master._loop: same rows, events and outcome."""
-    from aotv_cosim.engine.master import Interrupted
-
     s = master.scenario
     control = s.step_control
     array = master.array
@@ -95,13 +95,11 @@ def loop(master, rows, outcome):
                     crossing = _first_crossing(conditions, before, after)
                     if crossing is not None:
                         if k:
-                            rows.times.append(t0)
-                            rows.rows.append(middle.tobytes())
+                            rows.keep(t0, middle.tobytes())
                         _locate(master, rows, outcome, crossing, saved, t, (t0, t1, before, after),
                                 step, (earlier, h_earlier), control)
                         return
-                rows.times.append(t + 0.5 * h)
-                rows.rows.append(middle.tobytes())
+                rows.keep(t + 0.5 * h, middle.tobytes())
                 rows.add(t_end)
                 stats["accepted"] += 1
                 outcome.steps += 2
@@ -120,10 +118,8 @@ def loop(master, rows, outcome):
 def _first_crossing(conditions, before, after):
     """(condition, up) of the first stop condition crossed from buffer `before` to `after`."""
     for idx, threshold, direction, cond in conditions:
-        b, a = before[idx], after[idx]
-        up = b < threshold <= a
-        down = b > threshold >= a
-        if (up and direction != "down") or (down and direction != "up"):
+        up = crossing(before[idx], after[idx], threshold, direction)
+        if up is not None:
             return idx, cond, up
     return None
 

@@ -16,6 +16,11 @@ import threading
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
+class Interrupted(Exception):
+    """Raised before the next step (the loop) or batch (a campaign) once a SIGINT/SIGTERM was
+    recorded."""
+
+
 RECEIVED = []
 """The number of the first SIGINT/SIGTERM received while deferred (empty if none)."""
 

@@ -43,15 +43,12 @@ import numpy as np
 
 from aotv_cosim.engine import adaptive, interrupts, ordering
 from aotv_cosim.engine.errors import InputError, SimulationError
+from aotv_cosim.engine.interrupts import Interrupted
 from aotv_cosim.engine.fmi_calls import Call, Plan, bind, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance
 from aotv_cosim.engine.rows import CHUNK, Rows
 from aotv_cosim.engine.ranges import RangeWatch, range_watches
-
-class Interrupted(Exception):
-    """Raised before the next step (the loop) or batch (a campaign) once a SIGINT/SIGTERM was
-    recorded (`interrupts`)."""
-
+from aotv_cosim.engine.scenario import crossing
 
 @dataclass
 class Outcome:
@@ -370,9 +367,8 @@ class Master:
                 done = k + 1
                 for (idx, threshold, direction, cond), before in zip(conditions, before_values):
                     now = values[idx]
-                    up = before < threshold <= now
-                    down = before > threshold >= now
-                    if (up and direction != "down") or (down and direction != "up"):
+                    up = crossing(before, now, threshold, direction)
+                    if up is not None:
                         fraction = (threshold - before) / (now - before)
                         previous = np.frombuffer(last_row, dtype=np.float64)[:array.size]
                         self.stop_at(rows, outcome, cond, up, rows.event(cond, t, t_new, fraction, previous))

@@ -24,8 +24,12 @@ class Rows:
 
     def add(self, t):
         """Record the communication point t now (the loop itself records every n-th step)."""
+        self.keep(t, bytes(self.master.values))
+
+    def keep(self, t, row):
+        """Record the communication point t with `row`, the bytes of the buffer there."""
         self.times.append(t)
-        self.rows.append(bytes(self.master.values))
+        self.rows.append(row)
         if len(self.rows) >= CHUNK:
             self.flush()
 

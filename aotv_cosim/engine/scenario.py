@@ -27,6 +27,17 @@ class StopCondition:
     direction: str = "either"
 
 
+def crossing(before, now, threshold, direction):
+    """None, or whether a stop condition's signal crossed `threshold` going up from `before` to
+    `now` (direction 'up', 'down' or 'either'; landing on the threshold counts)."""
+    up = before < threshold <= now
+    if up and direction != "down":
+        return True
+    if before > threshold >= now and direction != "up":
+        return False
+    return None
+
+
 @dataclass(frozen=True)
 class Expectation:
     """A checked number: `signal` at end/min/max/event/time must equal `value` within tolerance."""
@@ -143,12 +154,13 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
                                 e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
                     for e in doc.get("expectations", [])]
     retimed = start is not None or stop is not None
+    options = _step_options(doc)
     scenario = Scenario(
         path=path, system=system, start=float(doc.get("start", 0.0) if start is None else start),
         stop=float(doc["stop"] if stop is None else stop),
-        step=float(step if step is not None else _step_options(doc)["size"]),
-        inputs=_step_options(doc).get("inputs", "extrapolated" if "tolerance" in _step_options(doc) else "held"),
-        step_control=step_control(_step_options(doc), float(_step_options(doc)["size"]), path)
+        step=float(step if step is not None else options["size"]),
+        inputs=options.get("inputs", "extrapolated" if "tolerance" in options else "held"),
+        step_control=step_control(options, float(options["size"]), path)
         if step is None and isinstance(doc.get("step"), dict) else None,
         algorithm=doc.get("algorithm", "gauss-seidel"),
         stop_conditions=[StopCondition(c["signal"], float(c["crosses"]), c.get("direction", "either"))
