@@ -1,7 +1,7 @@
 """Cost against accuracy: fixed communication steps (held and extrapolated inputs) and
 error-controlled steps (step doubling, `engine.adaptive`), on two cases (issue 17 item 4).
 
-    python bench/bench_step_control.py [--case nominal|entry|both]
+    python bench/bench_step_control.py [--case nominal|entry|both] [--repeat N]
 
 - nominal: seed-000 nominal pass (aotv_time_linear_nominal.json), error = |h(tf) - h_ref(tf)|,
   h_ref from the monolithic SciPy reference (rtol 1e-12).
@@ -9,12 +9,18 @@ error-controlled steps (step doubling, `engine.adaptive`), on two cases (issue 1
   |downrange at the located terminal-energy event - its value with a 0.005 s extrapolated step|
   (self-convergence: the FMUs' own equations, no monolithic reference of the tracking law).
 
-Cost is the CPU time of the whole run (this process, instantiation included) and the number of
-sweeps (one sweep steps every FMU once). Each line: one run; the table is the curve.
+Cost is the CPU time of the whole run (this process, instantiation included; median of
+--repeat runs) and the number of sweeps (one sweep steps every FMU once; with a tolerance, every
+sweep made: attempts, rejected steps, coarse runs). Each error-controlled line is run with the
+local check and with the global one (`engine.adaptive`), and compared with the best fixed step of
+the same error: the extrapolated fixed-step curve interpolated in log(error)-log(CPU) (blank
+outside its range).
 """
 
 import argparse
 import json
+import math
+import statistics
 import sys
 import tempfile
 import time
@@ -43,44 +49,66 @@ def variant(source, step, folder):
     return load_scenario(path)
 
 
-def measure(scenario, signal, at):
-    """(value of signal at the end or at the event, CPU s of the whole run, sweeps)."""
-    last = {}
-    cpu0 = time.process_time()
-    master = Master(scenario, lambda times, rows: last.update(row=rows[-1]))
-    outcome = master.run()
-    cpu = time.process_time() - cpu0
-    assert outcome.status == "completed", outcome.error
+def measure(scenario, signal, at, repeat=1):
+    """(value of signal at the end or at the event, median CPU s of the whole run, outcome)."""
+    cpus = []
+    for _ in range(repeat):
+        last = {}
+        cpu0 = time.process_time()
+        master = Master(scenario, lambda times, rows: last.update(row=rows[-1]))
+        outcome = master.run()
+        cpus.append(time.process_time() - cpu0)
+        assert outcome.status == "completed", outcome.error
     value = outcome.event["values"][signal] if at == "event" else float(last["row"][master.index[signal]])
-    sweeps = outcome.step_control["sweeps"] if outcome.step_control else outcome.steps
-    return value, cpu, sweeps
+    return value, statistics.median(cpus), outcome
 
 
-def curve(name, folder):
+def fixed_cost_at(error, curve):
+    """CPU of a fixed step giving `error`, interpolated in log-log along `curve` [(error, CPU)]
+    (None outside it)."""
+    points = sorted(curve)
+    for (e0, c0), (e1, c1) in zip(points, points[1:]):
+        if e0 <= error <= e1 and e0 > 0:
+            w = math.log(error / e0) / math.log(e1 / e0) if e1 > e0 else 0.0
+            return math.exp(math.log(c0) + w * math.log(c1 / c0))
+    return None
+
+
+def curve(name, folder, repeat):
     source, signal, at, steps, tolerances = CASES[name]
     if name == "nominal":
         ref = reference_run(load_scenario(source)).final[signal]
     else:
         ref = measure(variant(source, {"size": 0.005, "inputs": "extrapolated"}, folder), signal, at)[0]
-    print(f"\n{name}: error of {signal} ({at}) against the reference; CPU s of the whole run")
-    print(f"  {'stepping':<44} {'error':>12} {'CPU s':>8} {'sweeps':>8}")
+    print(f"\n{name}: error of {signal} ({at}) against the reference; median CPU s of {repeat} whole runs")
+    print(f"  {'stepping':<36} {'error':>11} {'CPU s':>8} {'sweeps':>7} {'estimate':>10} {'x best fixed':>12}")
+    extrapolated = []
     for inputs in ("held", "extrapolated"):
         for h in steps:
-            value, cpu, sweeps = measure(variant(source, {"size": h, "inputs": inputs}, folder), signal, at)
-            print(f"  {f'fixed {h:g} s, {inputs}':<44} {abs(value - ref):>12.4g} {cpu:>8.3f} {sweeps:>8}")
+            value, cpu, outcome = measure(variant(source, {"size": h, "inputs": inputs}, folder), signal, at, repeat)
+            if inputs == "extrapolated":
+                extrapolated.append((abs(value - ref), cpu))
+            print(f"  {f'fixed {h:g} s, {inputs}':<36} {abs(value - ref):>11.4g} {cpu:>8.3f} {outcome.steps:>7}")
     for tol in tolerances:
-        step = {"size": 0.5, "tolerance": {signal: tol}}
-        value, cpu, sweeps = measure(variant(source, step, folder), signal, at)
-        print(f"  {f'tolerance {tol:g} (extrapolated)':<44} {abs(value - ref):>12.4g} {cpu:>8.3f} {sweeps:>8}")
+        for check in ("local", "global"):
+            step = {"size": 0.5, "tolerance": {signal: tol}, "check": check}
+            value, cpu, outcome = measure(variant(source, step, folder), signal, at, repeat)
+            stats, error = outcome.step_control, abs(value - ref)
+            estimate = stats.get("global_error", {}).get(signal)
+            fixed = fixed_cost_at(error, extrapolated)
+            label = f"tolerance {tol:g}, {check}" + (f" ({stats['attempts']} att.)" if check == "global" else "")
+            print(f"  {label:<36} {error:>11.4g} {cpu:>8.3f} {stats['sweeps']:>7} "
+                  f"{'' if estimate is None else f'{estimate:.4g}':>10} {'' if fixed is None else f'{cpu / fixed:.2f}':>12}")
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--case", choices=["nominal", "entry", "both"], default="both")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per line, CPU median (default 3)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         for name in (["nominal", "entry"] if args.case == "both" else [args.case]):
-            curve(name, folder)
+            curve(name, folder, args.repeat)
 
 
 if __name__ == "__main__":

@@ -158,10 +158,18 @@ def _attach_fmu_log(outcome, master):
 
 def _warnings(scenario, outcome):
     """What a completed run did not do that the scenario asked for: a stop condition never met,
-    expectations not checked because the time span was overridden."""
-    skipped = [f"{len(scenario.skipped)} expectation(s) not checked: start/stop overridden "
+    expectations not checked because the time span was overridden, a tolerance whose global
+    error estimate is still above it after the last attempt (`engine.adaptive`)."""
+    warnings = [f"{len(scenario.skipped)} expectation(s) not checked: start/stop overridden "
                f"(run {scenario.start:g}..{scenario.stop:g} s)"] if scenario.skipped else []
+    control = outcome.step_control or {}
+    if control.get("tolerance_met") is False:
+        asked = scenario.step_control.tolerance
+        warnings += [f"global error of {sig} " + (f"estimated {err:.3g}, above its tolerance {asked[sig]:g}"
+                                                   if err is not None else "not estimated (its coarse runs failed)")
+                     + f", after {control['attempts']} attempts"
+                     for sig, err in control["global_error"].items() if err is None or err > asked[sig]]
     if outcome.status != "completed" or not scenario.stop_conditions or outcome.event is not None:
-        return skipped
+        return warnings
     conditions = ", ".join(f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)
-    return skipped + [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]
+    return warnings + [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]

@@ -1,9 +1,11 @@
 """Error-controlled communication steps: what a scenario asks for and how the next step is chosen.
 
-    "step": {"size": 0.5, "tolerance": {"vehicle.h": 1.0}, "min": 0.01, "max": 5.0}
+    "step": {"size": 0.5, "tolerance": {"vehicle.h": 1.0}, "min": 0.01, "max": 5.0, "check": "global"}
 
 `size` is the first step (s); `tolerance` gives, per output, the absolute error (in the output's
-SI unit) the run may make over its whole span; `min`/`max` bound the step (s). The master then
+SI unit) the run may make over its whole span; `min`/`max` bound the step (s); `check` "global"
+(default) has the run's global error estimated and the tolerance met on it, "local" only the
+local errors (`engine.adaptive`). The master then
 estimates each step's local coupling error by step doubling (`engine.adaptive`) and keeps the sum
 of the local errors within the tolerance: a step of length h may make h / (stop - start) of it
 (error per unit step). Inputs are extrapolated (`inputs`, local error O(h^3)); held inputs
@@ -24,11 +26,14 @@ bounds of an embedded Runge-Kutta controller, Hairer-Norsett-Wanner I, Sec. II.4
 
 @dataclass(frozen=True)
 class StepControl:
-    """tolerance: {signal: absolute error over the run, SI}; smallest and largest step, s."""
+    """tolerance: {signal: absolute error over the run, SI}; smallest and largest step, s;
+    check: "global" (the run's global error is estimated and the tolerance met on it,
+    `engine.adaptive`) or "local" (the local errors alone are kept within it)."""
 
     tolerance: dict
     min: float
     max: float
+    check: str = "global"
 
     def error_ratio(self, full, halves, h, span):
         """Largest |halves - full| / (tolerance h / span) over the signals: <= 1 accepts the step.
@@ -49,10 +54,10 @@ def step_control(step: dict, size: float, path) -> "StepControl | None":
     """The StepControl of a scenario's "step" object, or None for a fixed step; InputError
     when a bound is not a positive number or the first step lies outside [min, max]."""
     if "tolerance" not in step:
-        for key in ("min", "max"):
+        for key in ("min", "max", "check"):
             if key in step:
                 raise InputError(f"step.{key} without step.tolerance", file=path, entry=f"step.{key}",
-                                 fix="add \"tolerance\": {\"component.output\": error} or drop the bound")
+                                 fix="add \"tolerance\": {\"component.output\": error} or drop it")
         return None
     if step.get("inputs") == "held":
         raise InputError("error-controlled steps with held inputs: their first-order coupling error "
@@ -70,4 +75,4 @@ def step_control(step: dict, size: float, path) -> "StepControl | None":
     if not (0 < low <= size <= high and math.isfinite(high)):
         raise InputError(f"need 0 < min <= size <= max, got min {low:g}, size {size:g}, max {high:g} s",
                          file=path, entry="step", fix="give step bounds around the first step size")
-    return StepControl(tolerance, low, high)
+    return StepControl(tolerance, low, high, step.get("check", "global"))

@@ -98,6 +98,14 @@ def _copied(value):
     return value
 
 
+def _copy_mutable(source, target):
+    """target[name] = _copied(value) for each value of `source` that is not of a _SCALARS type
+    (the state's scalars are shared: a snapshot costs a dict copy and a few list copies)."""
+    for name, value in source.items():
+        if type(value) not in _SCALARS:
+            target[name] = _copied(value)
+
+
 class AotvSlave(Fmi2Slave):
     """pythonfmu slave with declared units, dependencies and a fast value table.
 
@@ -248,12 +256,16 @@ class AotvSlave(Fmi2Slave):
         declarations and pythonfmu's own bookkeeping, lists, dicts, sets and arrays copied one
         level deep by `_copied` (an adapter replaces or mutates its state at most one level deep;
         tests/test_fmu_state.py checks every FMU). pythonfmu calls this for fmi2GetFMUstate."""
-        return {name: _copied(value) for name, value in self.__dict__.items()
-                if name not in _NOT_STATE}
+        state = self.__dict__.copy()  # then only the few mutable values copied in Python
+        for name in _NOT_STATE.intersection(state):
+            del state[name]
+        _copy_mutable(state, state)
+        return state
 
     def _set_fmu_state(self, state):
         """Restore a `_get_fmu_state` snapshot (it stays usable: restored values are copies)."""
-        self.__dict__.update({name: _copied(value) for name, value in state.items()})
+        self.__dict__.update(state)
+        _copy_mutable(state, self.__dict__)
 
     # ---- model description ------------------------------------------------------------------
     def to_xml(self, model_options=dict()):
