@@ -15,12 +15,12 @@ event row is a communication point the FMUs computed.
 
 The local errors alone do not bound the error at the end on a closed-loop system: an error made
 in one state is carried into the others by the following steps. So by default (`check`
-"global") each attempt is checked on its global error: the system is run again from the start,
-one step over each accepted step (the coarse run: a third of the sweeps, no state saved), and
-(fine - coarse) / 3 is Richardson's estimate of the fine run's global error at every accepted
-point (halving every step divides a second-order error by 4). An attempt above the tolerance is
+"global") each attempt is checked on its global error: the system is run again from the start
+with one step over each accepted step and with one over each two (a third and a sixth of the
+sweeps, no state saved), and Richardson's extrapolation with the order these three runs show
+estimates the attempt's global error (`_global_error`). An attempt above the tolerance is
 undone and run again with its tolerances scaled down; the summary's `step_control` gives the
-estimate, the attempts and the tolerances used.
+estimate, the observed order, the attempts and the tolerances used.
 """
 
 import math
@@ -72,7 +72,6 @@ def loop(master, rows, outcome):
         _attempt(master, rows, outcome, control, step)
         return
     start = _Saved(master)
-    stats["attempts"] = 0
     try:
         asked = control.tolerance
         for attempt in range(1, ATTEMPTS + 1):
@@ -104,8 +103,8 @@ def loop(master, rows, outcome):
 RETRY_MARGIN = 0.5
 """An attempt retried asks for RETRY_MARGIN * (tolerance / estimated error) of its tolerances:
 the global error is about proportional to the tolerance (a local error per unit step), and
-the margin covers the departure from it (seed-002 entry: error / tolerance from 32 to 140
-over four tolerances)."""
+the margin covers the departure from it (seed-002 entry with local control, bench/
+bench_step_control.py: error / tolerance from 32 to 140 over four tolerances)."""
 
 UNCHECKED_SHRINK = 0.1
 """Tolerance factor of the attempt after one whose coarse runs failed (steps twice and four
@@ -144,7 +143,6 @@ def _adopt(outcome, result, trial, rows, stats):
     for name in ("status", "stop_reason", "event", "error", "error_detail", "steps"):
         setattr(outcome, name, getattr(result, name))
     stats.update(result.step_control)
-    outcome.step_control = stats
     for t, row in zip(trial.times, trial.rows):
         rows.keep(t, row)
 
