@@ -13,8 +13,10 @@ Cost is the CPU time of the whole run (this process, instantiation included; med
 --repeat runs) and the number of sweeps (one sweep steps every FMU once; with a tolerance, every
 sweep made: attempts, rejected steps, coarse runs). Each error-controlled line is run with the
 local check and with the global one (`engine.adaptive`), and compared with the best fixed step of
-the same error: the extrapolated fixed-step curve interpolated in log(error)-log(CPU) (blank
-outside its range).
+the same error: the two extrapolated fixed steps whose errors bracket it are run again right
+after it, and their CPU interpolated in log(error)-log(CPU) (blank outside the curve); the
+ratio is the median over --repeat such rounds, so it does not drift with the machine's speed
+over the minutes the bench takes.
 """
 
 import argparse
@@ -63,15 +65,34 @@ def measure(scenario, signal, at, repeat=1):
     return value, statistics.median(cpus), outcome
 
 
-def fixed_cost_at(error, curve):
-    """CPU of a fixed step giving `error`, interpolated in log-log along `curve` [(error, CPU)]
-    (None outside it)."""
-    points = sorted(curve)
-    for (e0, c0), (e1, c1) in zip(points, points[1:]):
-        if e0 <= error <= e1 and e0 > 0:
-            w = math.log(error / e0) / math.log(e1 / e0) if e1 > e0 else 0.0
-            return math.exp(math.log(c0) + w * math.log(c1 / c0))
-    return None
+def cpu_of(scenario):
+    """CPU s of one whole run of `scenario` in this process."""
+    cpu0 = time.process_time()
+    Master(scenario, lambda times, rows: None).run()
+    return time.process_time() - cpu0
+
+
+def interpolated(error, bracket):
+    """CPU at `error` along the log-log line through [(error, CPU), (error, CPU)]."""
+    (e0, c0), (e1, c1) = bracket
+    w = math.log(error / e0) / math.log(e1 / e0) if e1 > e0 else 0.0
+    return math.exp(math.log(c0) + w * math.log(c1 / c0))
+
+
+def against_fixed(scenario, error, first_cpu, fixed, repeat):
+    """(median CPU s of `scenario`, median of its CPU / that of a fixed step of the same `error`)
+    over `repeat` rounds, the first one's run already made (`first_cpu`). The fixed step's CPU
+    is interpolated between the two runs of `fixed` [(error, scenario)] whose errors bracket
+    `error`, made in the same round; the ratio is None outside the curve."""
+    points = sorted(fixed, key=lambda p: p[0])
+    pairs = [(a, b) for a, b in zip(points, points[1:]) if a[0] <= error <= b[0] and a[0] > 0]
+    cpus, ratios = [], []
+    for k in range(repeat):
+        cpus.append(cpu_of(scenario) if k else first_cpu)
+        if pairs:
+            (e0, s0), (e1, s1) = pairs[0]
+            ratios.append(cpus[-1] / interpolated(error, [(e0, cpu_of(s0)), (e1, cpu_of(s1))]))
+    return statistics.median(cpus), statistics.median(ratios) if ratios else None
 
 
 def curve(name, folder, repeat):
@@ -85,20 +106,22 @@ def curve(name, folder, repeat):
     extrapolated = []
     for inputs in ("held", "extrapolated"):
         for h in steps:
-            value, cpu, outcome = measure(variant(source, {"size": h, "inputs": inputs}, folder), signal, at, repeat)
+            scenario = variant(source, {"size": h, "inputs": inputs}, folder)
+            value, cpu, outcome = measure(scenario, signal, at, repeat)
             if inputs == "extrapolated":
-                extrapolated.append((abs(value - ref), cpu))
+                extrapolated.append((abs(value - ref), scenario))
             print(f"  {f'fixed {h:g} s, {inputs}':<36} {abs(value - ref):>11.4g} {cpu:>8.3f} {outcome.steps:>7}")
     for tol in tolerances:
         for check in ("local", "global"):
             step = {"size": 0.5, "tolerance": {signal: tol}, "check": check}
-            value, cpu, outcome = measure(variant(source, step, folder), signal, at, repeat)
+            scenario = variant(source, step, folder)
+            value, cpu, outcome = measure(scenario, signal, at)
             stats, error = outcome.step_control, abs(value - ref)
             estimate = stats.get("global_error", {}).get(signal)
-            fixed = fixed_cost_at(error, extrapolated)
+            cpu, fixed = against_fixed(scenario, error, cpu, extrapolated, repeat)
             label = f"tolerance {tol:g}, {check}" + (f" ({stats['attempts']} att.)" if check == "global" else "")
             print(f"  {label:<36} {error:>11.4g} {cpu:>8.3f} {stats['sweeps']:>7} "
-                  f"{'' if estimate is None else f'{estimate:.4g}':>10} {'' if fixed is None else f'{cpu / fixed:.2f}':>12}")
+                  f"{'' if estimate is None else f'{estimate:.4g}':>10} {'' if fixed is None else f'{fixed:.2f}':>12}")
 
 
 def main():
