@@ -200,14 +200,14 @@ def target_accuracy(repeats):
     report("CPU time of the whole run (the wall time on an idle core)", f"{cpu * 1e3:.1f}", "< 100", cpu < 0.1, "ms")
 
 
-def cpu_ms_per_run(repeats, runs=20):
-    """Median over `repeats` batches of the CPU time of one campaign run (ms), in this process on
-    FMUs reused between runs as a worker does (the first run, which instantiates and solves, is
-    left out)."""
+def cpu_ms_per_run(repeats, runs=20, scenario=CAMPAIGN):
+    """Median over `repeats` batches of the CPU time of one run of the campaign `scenario` (ms),
+    in this process on FMUs reused between runs as a worker does (the first run, which
+    instantiates and solves, is left out)."""
     from aotv_cosim.campaigns.draws import draw
     from aotv_cosim.campaigns.worker import Runner
 
-    runner = Runner(CAMPAIGN)
+    runner = Runner(scenario)
     draws = [draw(runner.scenario.dispersions, 0, k) for k in range(runs)]
     runner.run(0, draws[0])
     times = []
@@ -219,19 +219,26 @@ def cpu_ms_per_run(repeats, runs=20):
     return statistics.median(times)
 
 
-def target_montecarlo(runs, eff_runs, repeats):
+def campaign_figures(scenario, runs, eff_runs):
+    """(1 worker, 2 workers, same rows, efficiency, big): summaries of `eff_runs` runs of the
+    campaign `scenario` on 1 and on 2 local workers, whether their rows.csv are identical, the
+    parallel efficiency t1 / (2 t2), and the summary of `runs` runs on 2 workers."""
     from aotv_cosim.campaigns import run_campaign
 
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        t1 = run_campaign(scenario, eff_runs, tmp / "w1", workers=1, progress=False, make_plots=False)
+        t2 = run_campaign(scenario, eff_runs, tmp / "w2", workers=2, progress=False, make_plots=False)
+        same = (tmp / "w1" / "rows.csv").read_text() == (tmp / "w2" / "rows.csv").read_text()
+        big = run_campaign(scenario, runs, tmp / "big", workers=2, progress=False, make_plots=False)
+    return t1, t2, same, t1["wall_time_s"] / (2 * t2["wall_time_s"]), big
+
+
+def target_montecarlo(runs, eff_runs, repeats):
     print(f"4. Monte Carlo, {CAMPAIGN.name} (seed-000 robust law, density factor +-20% uniform)")
     per_run = cpu_ms_per_run(repeats)
     report("CPU per run, one process, FMUs reused", f"{per_run:.1f}", "<= 15", per_run <= 15, "ms")
-    with tempfile.TemporaryDirectory() as tmp:
-        tmp = Path(tmp)
-        t1 = run_campaign(CAMPAIGN, eff_runs, tmp / "w1", workers=1, progress=False, make_plots=False)
-        t2 = run_campaign(CAMPAIGN, eff_runs, tmp / "w2", workers=2, progress=False, make_plots=False)
-        same = (tmp / "w1" / "rows.csv").read_text() == (tmp / "w2" / "rows.csv").read_text()
-        eff = t1["wall_time_s"] / (2 * t2["wall_time_s"])
-        big = run_campaign(CAMPAIGN, runs, tmp / "big", workers=2, progress=False)
+    t1, t2, same, eff, big = campaign_figures(CAMPAIGN, runs, eff_runs)
     report(f"{runs} runs on 2 workers", f"{big['wall_time_s']:.1f}", "<= 10", big["wall_time_s"] <= 10, "s")
     print(f"     {big['runs_per_s']:.1f} runs/s, statuses {big['statuses']}")
     report(f"parallel efficiency 1 -> 2 workers ({eff_runs} runs)", f"{eff * 100:.0f}", ">= 85", eff >= 0.85, "%")
