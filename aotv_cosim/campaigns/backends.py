@@ -51,7 +51,7 @@ def _started(parent_pid, blas_threads):
     uses at most `blas_threads` BLAS threads, its share of the cores. OpenBLAS threads spin while
     they wait, so workers that each run one thread per core fight for the cores: on 2 cores two
     workers ran 100 LQR-law runs in 6.3 s against 4.1 s for one (bench/bench_campaign_laws.py),
-    and in 2.6 s with one BLAS thread each. Dask's nanny sets the same limit for its workers."""
+    and in 2.9 s with one BLAS thread each. Dask's nanny sets the same limit for its workers."""
     worker_started(parent_pid)
     threadpool_limits(limits=blas_threads, user_api="blas")
 
