@@ -9,7 +9,6 @@ command line prints.
 """
 
 import dataclasses
-import os
 import tempfile
 from pathlib import Path
 
@@ -55,11 +54,12 @@ def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None
     import pandas as pd
 
     from aotv_cosim.campaigns import run_campaign
+    from aotv_cosim.campaigns.backends import usable_cores
     from aotv_cosim.engine.scenario import Scenario
 
     path = scenario.path if isinstance(scenario, Scenario) else Path(scenario)
     if workers is None:
-        workers = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+        workers = usable_cores()
     with tempfile.TemporaryDirectory(prefix="aotv_mc_") as tmp:
         folder = Path(out) if out is not None else Path(tmp)
         summary = run_campaign(path, runs, folder, workers=workers, seed=seed, scheduler=scheduler,

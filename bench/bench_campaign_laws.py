@@ -1,6 +1,6 @@
 """Issue 17 target 3 for every law of the seed-000 guidance benchmark (scenarios/benchmark_seed000).
 
-    python bench/bench_campaign_laws.py [--runs 1000] [--eff-runs 100] [--repeats 3] [--laws robust,npc]
+    python bench/bench_campaign_laws.py [--runs 1000] [--eff-runs 200] [--repeats 3] [--laws robust,npc]
 
 Per law, the figures bench/run.py gives for the robust-law density campaign, with the same
 definitions and targets: CPU per run in one process on FMUs reused as a worker reuses them
@@ -25,7 +25,7 @@ LAWS = ROOT / "scenarios" / "benchmark_seed000"
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=1000, help="runs of the campaign on 2 workers")
-    parser.add_argument("--eff-runs", type=int, default=100, help="runs of the 1- and 2-worker campaigns")
+    parser.add_argument("--eff-runs", type=int, default=200, help="runs of the 1- and 2-worker campaigns")
     parser.add_argument("--repeats", type=int, default=3, help="batches of 10 runs for the CPU per run")
     parser.add_argument("--laws", default="", help="comma-separated scenario names (default: every law)")
     args = parser.parse_args()

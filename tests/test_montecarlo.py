@@ -3,7 +3,6 @@ failing and crashing runs recorded while the campaign goes on."""
 
 import csv
 import json
-import os
 import textwrap
 from pathlib import Path
 
@@ -89,7 +88,7 @@ def test_local_workers_use_their_share_of_the_blas_threads(monkeypatch, tmp_path
     initializer asks for, and what its BLAS then runs."""
     from aotv_cosim.campaigns import backends
 
-    share = max(1, len(os.sched_getaffinity(0)) // 2)
+    share = max(1, backends.usable_cores() // 2)
     pool = backends._pool(2)
     try:
         assert all(n <= share for n in pool.submit(_blas_threads).result())

@@ -38,12 +38,16 @@ def _retry_plan(batch):
     return [[item] for item in batch] if len(batch) > 1 else None
 
 
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the OS has one)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
 def _pool(workers):
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
     return cf.ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_started,
-                                  initargs=(os.getpid(), max(1, cores // workers)))
+                                  initargs=(os.getpid(), max(1, usable_cores() // workers)))
 
 
 def _started(parent_pid, blas_threads):
