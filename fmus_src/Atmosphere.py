@@ -37,7 +37,7 @@ class Atmosphere(AotvSlave):
                                     self.noise_amplitude, self.noise_interval, self.noise_seed)
         return factor * exponential_density(self.h, self.rho_ref, self.h_ref, self.scale_height)
 
-    def enter_initialization_mode(self):
+    def start_state(self):
         self.time = self.start_time
 
     def do_step(self, current_time, step_size):

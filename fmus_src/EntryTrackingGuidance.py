@@ -1,6 +1,7 @@
 """EntryTrackingGuidance FMU: seed 002 ground-track tracking by feedback linearization (eqs. 33-54)."""
 
 import math
+from functools import cache
 
 import numpy as np
 
@@ -12,6 +13,14 @@ from aotv_cosim.physics import entry, sx2
 STATE = ("r", "theta", "phi", "v", "gamma", "psi")
 STATE_RANGES = {"r": {"min": POSITIVE}, "v": {"min": POSITIVE}}
 """Declared ranges of the measured state (the law divides by r and v)."""
+
+
+@cache
+def shared_reference():
+    """The bundled reference table, read once per process (read only: every instance shares it).
+    A host may extract this FMU again for another system and delete the first folder, which the
+    module stays imported from."""
+    return Reference()
 
 
 class EntryTrackingGuidance(AotvSlave):
@@ -51,7 +60,7 @@ class EntryTrackingGuidance(AotvSlave):
         entry_state = (sx2.R_EARTH + sx2.H0, 0.0, 0.0, sx2.V0, 0.0, 0.0)  # start values: the paper's entry
         for name, unit, start in zip(STATE, ("m", "rad", "rad", "m/s", "rad", "rad"), entry_state):
             self.input(name, start, unit, f"Measured {name}", **STATE_RANGES.get(name, {}))
-        self.reference = Reference()
+        self.reference = shared_reference()
         self.integrals = np.zeros(2)
         self.anchor = None
         self._key = None
@@ -121,10 +130,11 @@ class EntryTrackingGuidance(AotvSlave):
         self.integrals = self._current_integrals(x, e)
         self.anchor = (e, self._errors(x, e))
 
-    def enter_initialization_mode(self):
+    def start_state(self):
+        """No integral yet; the commands are recomputed (the gains and bands may have changed)."""
         self.integrals, self.anchor, self._key = np.zeros(2), None, None
 
-    def exit_initialization_mode(self):
+    def latch(self):
         self._commit()
         self._key = None
 

@@ -74,7 +74,6 @@ class MaeGuidance(AotvSlave):
         law("solves", "1", "Number of MAE solves so far", lambda w: float(len(w.solutions)))
         law("failures", "1", "Number of MAE solves that failed (constants kept)",
             lambda w: float(w.failures))
-        self.initializing = True
         self.law = None
         self._key = None
         self._evaluation = None
@@ -118,13 +117,8 @@ class MaeGuidance(AotvSlave):
                                        (law.command(state), law.costates(state)))
         return held[3]
 
-    def enter_initialization_mode(self):
-        self.initializing = True
-        self._key = None
-
-    def exit_initialization_mode(self):
+    def latch(self):
         self._law()
-        self.initializing = False
 
     def do_step(self, current_time, step_size):
         """Re-solve from the inputs (the state at current_time + step_size) when one is due."""

@@ -124,7 +124,9 @@ class NpcGuidance(AotvSlave):
             return npc.profile_mean(t, t + self.command_hold, memory.t_k, memory.u_c, self._settings())
         return npc.lift_profile(t, memory.t_k, memory.u_c, self._settings())
 
-    def enter_initialization_mode(self):
+    def start_state(self):
+        """Before the first cycle, at the start time (the next read runs the cycle for the current
+        inputs and parameters)."""
         self.time = self.start_time
         self._reset()
 

@@ -61,20 +61,14 @@ class PitchVehicle(AotvSlave):
           depends_on=cond + ("delta_e",))
         o("settle_time", "s", "Last time after the start with |alpha| > settle_band",
           lambda: self.settle_time)
-        self.rates = sp.BackwardRates(self.rate_spacing)
-        self.reset()
+        self.start_state()
 
-    def reset(self):
+    def start_state(self):
+        """The initial perturbation and empty rate history of the current parameters."""
         self.x = (self.alpha_i, self.alpha_dot_i)
         self.xi = 0.0
         self.settle_time = 0.0
         self.rates = sp.BackwardRates(self.rate_spacing)
-
-    def enter_initialization_mode(self):
-        self.reset()
-
-    def exit_initialization_mode(self):
-        self.reset()
 
     def _aero(self):
         return sp.MomentDerivatives(self.cm_alpha, self.cm_alphadot, self.cm_q, self.cm_de_0,

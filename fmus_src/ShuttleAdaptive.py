@@ -43,10 +43,7 @@ class ShuttleAdaptive(AotvSlave):
     def _command(self):
         return self.law.command(self.alpha, self.alpha_prime)
 
-    def enter_initialization_mode(self):
-        self._new_law()
-
-    def exit_initialization_mode(self):
+    def start_state(self):
         self._new_law()
 
     def do_step(self, current_time, step_size):

@@ -102,10 +102,7 @@ class ShuttleLqr(AotvSlave):
     def _command(self):
         return (self.f - self._u()) / self.mu
 
-    def enter_initialization_mode(self):
-        self.latched = None
-
-    def exit_initialization_mode(self):
+    def latch(self):
         self.latched = self._solution()
 
     def do_step(self, current_time, step_size):

@@ -34,7 +34,6 @@ class ActuatorSlave(AotvSlave):
         self.output("saturated", "1", "1 while the command lies outside the limits, else 0",
                     self._saturated, depends_on=("command",))
         self.state = 0.0
-        self.initializing = True
 
     def _clipped_command(self):
         return saturate(self.command, self.lower, self.upper)
@@ -50,12 +49,8 @@ class ActuatorSlave(AotvSlave):
     def _saturated(self):
         return 0.0 if self.lower <= self.command <= self.upper else 1.0
 
-    def enter_initialization_mode(self):
-        self.initializing = True
-
-    def exit_initialization_mode(self):
+    def latch(self):
         self.state = self._clipped_command()
-        self.initializing = False
 
     def advance(self, step_size):
         """The FMU's do_step body: move the lagged or rate-limited state over step_size (s)."""

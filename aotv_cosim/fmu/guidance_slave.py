@@ -158,11 +158,10 @@ class EntryLatchedGuidance(AotvSlave):
             return 0.0
         return float(self.command(solution, elapsed))
 
-    def enter_initialization_mode(self):
-        self.latched = None
+    def start_state(self):
         self.time = self.start_time
 
-    def exit_initialization_mode(self):
+    def latch(self):
         self.latched = self.solution()
 
     def advance(self, current_time, step_size):
@@ -204,6 +203,7 @@ class NominalTrackingGuidance(AotvSlave):
         self.input("gamma", gamma0, "rad", "Measured flight-path angle", min=-math.pi / 2, max=math.pi / 2)
         self.time = 0.0
         self._law = None
+        self._law_key = None
 
     def law_outputs(self):
         """Declare u, du, the nominal's altitude, solve_time and converged (call last in __init__)."""
@@ -221,7 +221,7 @@ class NominalTrackingGuidance(AotvSlave):
         """The `guidance.tracking` law object about the nominal 2PBVP solution (subclass)."""
 
     def law(self):
-        """(law, solve time s, converged), designed once per initialization about the nominal
+        """(law, solve time s, converged), designed once per parameter set about the nominal
         (`optimal_nominal`: solved once per process and problem). The solve time is that of the
         2PBVP solve plus this design."""
         if self._law is None:
@@ -256,9 +256,13 @@ class NominalTrackingGuidance(AotvSlave):
     def _nominal_altitude(self):
         return self.law()[0].nominal.state_at(min(self._elapsed(), self.tf))[0] - R_EARTH_000
 
-    def enter_initialization_mode(self):
-        self._law = None
+    def start_state(self):
+        """At the start time; the law is designed again (at its next use) only when a parameter
+        changed: the measured inputs do not enter the design."""
         self.time = self.start_time
+        key = tuple(getattr(self, v.name) for v in self.vars.values() if v.causality.name == "parameter")
+        if key != self._law_key:
+            self._law, self._law_key = None, key
 
     def advance(self, current_time, step_size):
         """The FMU's do_step body: the law's own state moves over the step, then the clock."""

@@ -11,8 +11,17 @@ The master reads those dependencies to order components and to reject algebraic 
 get_real/set_real are overridden with precomputed tables: parameters and inputs are read and
 written in the instance dict directly (pythonfmu's own path makes two Python calls per value), and
 input ranges are checked once after a set, not per read: the FMI call floor of a Python FMU is
-dominated by this per-call Python work. `revision` counts the sets, so an adapter may cache a
-value computed from the inputs until the next set or step.
+dominated by this per-call Python work. `revision` counts the sets (of every type), so an adapter
+may cache a value computed from the inputs until the next set or step.
+
+Any legal FMI 2.0 call order: a host may set parameters and start values before
+fmi2EnterInitializationMode (as this package's master does) or after it (Ecos does), set and read
+in several passes while initializing, and reset the instance (pythonfmu builds a new slave
+object). So an adapter never derives its start from the values it saw at one call: it implements
+`start_state` (its initial state, clocks and parameter-built laws from the current values), which
+runs before an output is read in initialization mode whenever a value was set since, and once
+more when initialization ends, then `latch` (what the steps start from). Expensive solves are
+cached by the values they use, so a host's repeated passes with unchanged values solve once.
 
 Physical ranges: every declaration may give `min`/`max` (SI, inclusive), written into the
 modelDescription; the master validates given values against them and stops a run whose output
@@ -131,6 +140,8 @@ class AotvSlave(Fmi2Slave):
         self._undefined = frozenset()
         self.revision = 0  # not `version`: pythonfmu writes that attribute into the modelDescription
         self.start_time = 0.0
+        self.initializing = True  # until fmi2ExitInitializationMode
+        self._started = -1  # the revision `start_state` last ran at
 
     # ---- declarations -------------------------------------------------------------------
     def parameter(self, name, start, unit, description, tunable=False, min=None, max=None):
@@ -193,12 +204,36 @@ class AotvSlave(Fmi2Slave):
             self._names[var.value_reference] = var.name
         return var
 
+    # ---- initialization (module docstring) ------------------------------------------------------
+    def start_state(self):
+        """Derive from the current parameters, start values and start time everything the FMU's
+        outputs read before the first step (subclass hook; cheap, or cached by the values used)."""
+
+    def latch(self):
+        """Fix, when initialization ends, what the steps start from (subclass hook)."""
+
+    def _start_if_changed(self):
+        if self._started != self.revision:
+            self.start_state()
+            self._started = self.revision
+
+    def enter_initialization_mode(self):
+        self.initializing = True
+
+    def exit_initialization_mode(self):
+        self._start_if_changed()
+        self.latch()
+        self.initializing = False
+
     # ---- FMI calls ------------------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time, tolerance):
         self.start_time = float(start_time)
+        self.revision += 1
 
     def get_real(self, vrs):
         getters = self._getters
+        if self.initializing and self._started != self.revision:
+            self._start_if_changed()
         if not self._inputs_checked:
             self._check_inputs()
         if self._undefined:
@@ -215,6 +250,23 @@ class AotvSlave(Fmi2Slave):
         self.revision += 1
         if self._inputs_checked and not self._ranged_vrs.isdisjoint(vrs):
             self._inputs_checked = False
+
+    def get_integer(self, vrs):
+        if self.initializing and self._started != self.revision:
+            self._start_if_changed()
+        return super().get_integer(vrs)
+
+    def set_integer(self, vrs, values):
+        super().set_integer(vrs, values)
+        self.revision += 1
+
+    def set_boolean(self, vrs, values):
+        super().set_boolean(vrs, values)
+        self.revision += 1
+
+    def set_string(self, vrs, values):
+        super().set_string(vrs, values)
+        self.revision += 1
 
     def step_refused(self):
         """True, after logging why at fmi2Error, when an input lies outside its declared range: the

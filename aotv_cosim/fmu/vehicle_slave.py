@@ -110,15 +110,14 @@ class VehicleSlave(AotvSlave):
 
     # ---- state ------------------------------------------------------------------------------
     def reset_state(self):
-        """Initial state from the parameters (called again when initialization ends)."""
+        """Initial state from the parameters."""
         self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
         self.heat_load = 0.0
         self._forces = (-1, None)
 
-    def enter_initialization_mode(self):
-        self.reset_state()
-
-    def exit_initialization_mode(self):
+    def start_state(self):
+        """The initial state of the current parameters (h0, v0, ..., R_e may be set during
+        initialization, and the outputs read then must follow them)."""
         self.reset_state()
 
     def advance(self, step_size):
