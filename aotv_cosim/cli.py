@@ -321,14 +321,15 @@ def benchmark(scenario_set, runs, workers, seed, scheduler, out):
 def export_ssp(scenario, out, sets, step):
     """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
     from aotv_cosim.engine.scenario import load_scenario, parse_sets
-    from aotv_cosim.ssp.export import export_ssp as write_ssp
+    from aotv_cosim.ssp.export import default_experiment, export_ssp as write_ssp
 
     def body():
         loaded = load_scenario(scenario, parse_sets(sets), step)
         path = write_ssp(loaded, writable_file(out, "--out"))
+        start, stop, every = default_experiment(path)  # the stop the system reaches (ssp.experiment)
         click.echo(f"{path}: {len(loaded.system.components)} components, "
                    f"{len(loaded.system.connections)} connections, "
-                   f"{loaded.start:g}..{loaded.stop:g} s by {loaded.step:g} s")
+                   f"{start:g}..{stop:g} s by {every:g} s")
 
     _guard(body)
 

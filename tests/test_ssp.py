@@ -177,8 +177,10 @@ def test_unparsed_step_can_come_from_the_command_line(ssp, tmp_path):
 
 def test_default_experiment_stops_where_the_system_gets(tmp_path):
     """A scenario ending at a stop condition exports the last communication point before its
-    event, not its own stop (400 s here, past the atmospheric exit); the archive runs to it."""
-    exit_scenario = load_scenario(NOMINAL.with_name("aotv_time_linear_exit.json"))
+    event, not its own stop (400 s here, past the atmospheric exit); the archive runs to it, and
+    the command line reports that stop."""
+    exit_file = NOMINAL.with_name("aotv_time_linear_exit.json")
+    exit_scenario = load_scenario(exit_file)
     event = run_scenario(exit_scenario, tmp_path / "run", make_plots=False)["event"]["time"]
     archive = export_ssp(exit_scenario, tmp_path / "exit.ssp")
     stop = float(xml_member(archive, "SystemStructure.ssd").find("ssd:DefaultExperiment", NS).get("stopTime"))
@@ -187,3 +189,16 @@ def test_default_experiment_stops_where_the_system_gets(tmp_path):
     assert round(stop / exit_scenario.step, 9) == round(stop / exit_scenario.step)
     summary = run_scenario(load_scenario(archive), tmp_path / "ssp", make_plots=False)
     assert summary["status"] == "completed" and summary["end_time"] == pytest.approx(stop)
+    code, text = invoke("export-ssp", exit_file, "-o", tmp_path / "cli.ssp")
+    assert code == 0, text
+    assert f"0..{stop:g} s by {exit_scenario.step:g} s" in text, text
+
+
+def test_every_ssv_is_one_named_parameter_set(ssp, scenario):
+    """One ParameterSet name for the whole system: an engine that applies one named set (Ecos's
+    --parameterSet) applies every component's values."""
+    with zipfile.ZipFile(ssp) as archive:
+        members = sorted(n for n in archive.namelist() if n.endswith(".ssv"))
+    assert members == sorted(f"resources/{c.name}.ssv" for c in scenario.system.components.values()
+                             if c.parameters)
+    assert {xml_member(ssp, m).get("name") for m in members} == {"scenario"}

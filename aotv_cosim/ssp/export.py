@@ -4,7 +4,9 @@ The SSD lists every component with a connector for each of its FMU's parameters,
 inputs and outputs (kind = causality, type and SI unit, description), the units' SI base-unit
 exponents,
 the connections, a ParameterBinding per component that references its values in
-``resources/<component>.ssv`` (the wiring's values with the scenario's overrides applied), and
+``resources/<component>.ssv`` (the wiring's values with the scenario's overrides applied; every
+SSV names its ParameterSet `PARAMETER_SET`, so that an engine which applies one named set, such as
+Ecos with ``--parameterSet scenario``, applies every component's values), and
 the default experiment: start and stop as attributes (a stop the system reaches, see
 `experiment`), the communication step in the OSP
 annotation libcosim reads (``osp:FixedStepAlgorithm baseStepSize``) and, with the master
@@ -21,6 +23,7 @@ connection listed before it; SSP allows bindings to name FMU variables without c
 import errno
 import io
 import os
+import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
 from xml.etree.ElementTree import Element, SubElement
@@ -36,6 +39,8 @@ KINDS = ("parameter", "input", "output")
 """FMI 2.0 causalities exposed as connectors (SSP requires kind == causality for FMI 2.0)."""
 TYPES = {"Real": "ssc:Real", "Integer": "ssc:Integer", "Boolean": "ssc:Boolean", "String": "ssc:String"}
 BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+PARAMETER_SET = "scenario"
+"""Name of the ParameterSet of every exported SSV (one name for the whole system)."""
 
 
 def export_ssp(scenario, out) -> Path:
@@ -174,7 +179,7 @@ def _unit_exponents(model_description):
 
 def _ssv(comp):
     """The component's values as an SSV ParameterSet (names are the FMU's variable names)."""
-    root = Element(q("ssv:ParameterSet"), {"version": "1.0", "name": comp.name})
+    root = Element(q("ssv:ParameterSet"), {"version": "1.0", "name": PARAMETER_SET})
     parameters = SubElement(root, q("ssv:Parameters"))
     units = {}
     defined = _unit_exponents(comp.fmu.model_description)
@@ -190,6 +195,15 @@ def _ssv(comp):
         for name in sorted(units):
             SubElement(SubElement(unit_list, q("ssc:Unit"), {"name": name}), q("ssc:BaseUnit"), units[name])
     return root
+
+
+def default_experiment(ssp) -> tuple:
+    """(start s, stop s, step s) of the default experiment of an archive written by `export_ssp`."""
+    with zipfile.ZipFile(ssp) as archive:
+        root = ElementTree.fromstring(archive.read("SystemStructure.ssd"))
+    experiment = root.find(q("ssd:DefaultExperiment"))
+    step = experiment.find(".//" + q("osp:FixedStepAlgorithm")).get("baseStepSize")
+    return float(experiment.get("startTime")), float(experiment.get("stopTime")), float(step)
 
 
 def format_value(kind: str, value) -> str:
