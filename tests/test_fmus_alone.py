@@ -1,8 +1,8 @@
 """Every FMU alone, as a user of another FMI tool meets it (issue 14 items 1-4).
 
-Each FMU runs in its own subprocess (pythonfmu FMUs of one process share the first-imported copy
-of the bundled aotv_cosim) where an import finder lets aotv_cosim come only from an FMU's
-resources, however this package is installed.
+Each FMU runs in its own subprocess where an import finder keeps this package (aotv_cosim, however
+it is installed) out of reach: an FMU may import only its own bundled runtime, which comes from its
+resources under a name of its own (aotv_cosim_<hash>, `aotv_cosim.fmu.build.isolate`).
 
 - `test_fmu_alone_on_its_defaults`: `fmpy.simulate_fmu` with the FMU's own start values and default
   experiment instantiates, initializes, steps to the stop time and terminates, every output finite.
@@ -29,21 +29,25 @@ CLEAN_PATH = textwrap.dedent("""
     import importlib.machinery, os, sys
 
     class BundledOnly:
-        \"\"\"aotv_cosim is imported only from an FMU's resources folder (pythonfmu puts it on sys.path).\"\"\"
+        \"\"\"aotv_cosim itself is never imported; a bundled runtime (aotv_cosim_*) only from an
+        FMU's resources folder (pythonfmu puts it on sys.path).\"\"\"
 
         def find_spec(self, name, path=None, target=None):
-            if name != "aotv_cosim":
+            if name == "aotv_cosim":
+                raise ModuleNotFoundError("an FMU imported aotv_cosim, not its bundled runtime")
+            if not name.startswith("aotv_cosim_") or "." in name:
                 return None
             folders = [p for p in sys.path if os.path.basename(os.path.normpath(p or ".")) == "resources"]
             spec = importlib.machinery.PathFinder.find_spec(name, folders)
             if spec is None:
-                raise ModuleNotFoundError("aotv_cosim outside an FMU's resources")
+                raise ModuleNotFoundError(f"{name} outside an FMU's resources")
             return spec
 
     sys.meta_path.insert(0, BundledOnly())
 """)
-"""Prelude: aotv_cosim may come only from an FMU's resources, not from the source checkout, an
-editable install or site-packages (which also holds fmpy, so it stays on sys.path)."""
+"""Prelude: aotv_cosim may not be imported (from the source checkout, an editable install or
+site-packages, which also holds fmpy, so it stays on sys.path); the bundled runtimes only from an
+FMU's resources."""
 
 EXIT = textwrap.dedent("""
     sys.stdout.flush()
@@ -60,7 +64,7 @@ ALONE = CLEAN_PATH + textwrap.dedent("""
     path = sys.argv[1]
     md = read_model_description(path)
     rows = simulate_fmu(path)
-    bundled = sys.modules["aotv_cosim"].__file__
+    bundled = [m.__file__ for name, m in sys.modules.items() if name.startswith("aotv_cosim_") and "." not in name]
     outputs = [v.name for v in md.modelVariables if v.causality == "output"]
     print(json.dumps({"end": float(rows["time"][-1]), "stop": float(md.defaultExperiment.stopTime),
                       "not_finite": [n for n in outputs if not all(map(math.isfinite, rows[n]))],
@@ -148,7 +152,8 @@ def test_fmu_alone_on_its_defaults(name, built, tmp_path):
     result = clean_run(ALONE, [built[name]], tmp_path)
     assert result["end"] == pytest.approx(result["stop"], abs=1e-9)
     assert result["not_finite"] == []
-    assert "/resources/aotv_cosim/" in result["aotv_cosim_from"], result["aotv_cosim_from"]
+    bundled = result["aotv_cosim_from"]
+    assert len(bundled) == 1 and "/resources/aotv_cosim_" in bundled[0], bundled
 
 
 def test_fmu_outputs_finite_on_zero_inputs(built, tmp_path):

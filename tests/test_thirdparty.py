@@ -116,6 +116,30 @@ def test_libcosim_matches_jacobi_master(name, tmp_path):
           max(relative_differences(result["final"], expected).values()))
 
 
+def test_libcosim_runs_several_systems_in_one_process(tmp_path):
+    """Two systems (seed 000 and seed 003), then the first again, one after another in one libcosim
+    process: each FMU imports its own bundled runtime (aotv_cosim_<hash>), so the folders of a
+    system libcosim has deleted serve no later one, and each run agrees with this master."""
+    names = ["aotv_time_linear_nominal.json", "shuttle_fl_150kft.json"]
+    scenarios = [prepared(name) for name in names]
+    archives = [export_ssp(s, tmp_path / f"system{k}.ssp") for k, s in enumerate(scenarios)]
+    expected = [master_final(s, tmp_path / f"master{k}") for k, s in enumerate(scenarios)]
+    args = []
+    for archive, scenario, values in zip(archives + archives[:1], scenarios + scenarios[:1],
+                                         expected + expected[:1]):
+        args += ["--", str(archive), repr(scenario.stop), *values]
+    script = shutil.copy(libcosim_run.__file__, tmp_path / "libcosim_run.py")
+    done = subprocess.run([sys.executable, str(script), *args[1:]], capture_output=True, text=True,
+                          cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-3000:]
+    results = json.loads(done.stdout.strip().splitlines()[-1])
+    for result, values in zip(results, expected + expected[:1]):
+        assert_agree(result["final"], values)
+    assert results[2]["final"] == results[0]["final"]
+    assert len(results[-1]["aotv_cosim_from"]) == len({c.fmu.guid for s in scenarios
+                                                        for c in s.system.components.values()})
+
+
 def fmpy_parameter_set(ssp):
     """Every component's SSV values with 'component.' prefixed: FMPy only applies a set it is given."""
     from fmpy.ssp.ssd import ParameterSet, read_ssv
@@ -205,5 +229,6 @@ def test_libcosim_in_clean_venv_matches_jacobi_master(name, tmp_path, clean_pyth
     assert probe.returncode != 0
     result = libcosim_subprocess(clean_python, ssp, scenario.stop, expected, env, tmp_path)
     assert_agree(result["final"], expected)
-    origin = result["aotv_cosim_from"]
-    assert origin and "/resources/aotv_cosim/" in origin and not origin.startswith(str(SCENARIOS.parent))
+    origins = result["aotv_cosim_from"]
+    assert origins and all("/resources/aotv_cosim_" in o and not o.startswith(str(SCENARIOS.parent))
+                           for o in origins), origins

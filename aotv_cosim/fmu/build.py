@@ -1,7 +1,12 @@
 """Build the FMUs of ``fmus_src`` with pythonfmu: content-hash cache, compliant, reproducible.
 
 Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the guidance laws and
-the adapter base classes) so it runs where aotv-cosim is not installed. The build then rewrites
+the adapter base classes) so it runs where aotv-cosim is not installed, under a name of its own
+(`isolate`): the runtime as ``aotv_cosim_<hash16>``, pythonfmu inside it, the FMU's module as
+``<Name>_<hash16>`` (its source hash), imports rewritten. Python hosts keep one module per name
+for the whole process, so with one shared name the first FMU's copy (from a folder a host may
+have deleted since, from other sources) would serve every later one; named apart, any number of
+FMUs of any versions, in any number of systems, share a process. The build then rewrites
 the archive so that the same sources give the same bytes: the modelDescription gets a GUID
 derived from the sources and the generated XML, no generation date, and zip entries are written
 in sorted order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI
@@ -12,6 +17,7 @@ import ast
 import hashlib
 import io
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -38,7 +44,8 @@ ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
-BUILD_FORMAT = "4: explicit variability, Linux binary loads in C hosts, FMU state get/set"
+BUILD_FORMAT = ("5: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
+                "under a name of its own")
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -175,9 +182,62 @@ def _pythonfmu_build(name: str, tmp: Path) -> Path:
         sys.path[:] = saved_path
 
 
+def runtime_package(digest: str) -> str:
+    """Name of the bundled runtime package in the FMU built from sources of hash `digest`."""
+    return f"aotv_cosim_{digest[:16]}"
+
+
+def slave_module(name: str, digest: str) -> str:
+    """Name of the module of fmus_src/<name>.py in the FMU built from sources of hash `digest`."""
+    return f"{name}_{digest[:16]}"
+
+
+_TOP_IMPORT = re.compile(r"^(\s*(?:from|import)\s+)(aotv_cosim|pythonfmu)(?=[\s.])", re.MULTILINE)
+
+
+def renamed_imports(source: str, renames: dict, where: str) -> str:
+    """`source` with its absolute imports of the top-level packages in `renames` ({old: new})
+    rewritten; a BuildError if an import of them is left (one the line-start rewrite cannot see)."""
+    text = _TOP_IMPORT.sub(lambda m: m.group(1) + renames[m.group(2)], source)
+    for node in ast.walk(ast.parse(text)):
+        names = [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else \
+            [alias.name for alias in node.names] if isinstance(node, ast.Import) else []
+        if any(n.split(".")[0] in renames for n in names):
+            raise BuildError(f"an import of {', '.join(names)} at line {node.lineno} cannot be renamed",
+                             file=where, fix="write it as `from package.module import name` on one line")
+    return text
+
+
+def isolate(members: dict, name: str, digest: str) -> dict:
+    """The FMU's archive members with its runtime under names of its own (module docstring):
+    resources/aotv_cosim -> resources/<runtime_package>, resources/pythonfmu -> inside it,
+    resources/<name>.py -> resources/<slave_module>.py (slavemodule.txt names it), and the
+    imports of the bundled modules and the FMU's module rewritten to match."""
+    package, module = runtime_package(digest), slave_module(name, digest)
+    renames = {"aotv_cosim": package, "pythonfmu": f"{package}.pythonfmu"}
+    moved = {"resources/aotv_cosim/": f"resources/{package}/",
+             "resources/pythonfmu/": f"resources/{package}/pythonfmu/"}
+    out = {}
+    for member, data in members.items():
+        prefix = next((p for p in moved if member.startswith(p)), None)
+        if prefix is not None:
+            target = moved[prefix] + member[len(prefix):]
+        elif member == f"resources/{name}.py":
+            target = f"resources/{module}.py"
+        else:
+            target = member
+        if member == "resources/slavemodule.txt":
+            data = module.encode()
+        elif target.endswith(".py") and prefix != "resources/pythonfmu/" and target.startswith("resources/"):
+            data = renamed_imports(data.decode(), renames, member).encode()
+        out[target] = data
+    return out
+
+
 def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
     with zipfile.ZipFile(raw) as src:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
+    members = isolate(members, raw.stem, digest)
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
     fmu_native.patch_linux_binary(members, raw.stem)
     members[BUILD_INFO] = (digest + "\n").encode()

@@ -3,10 +3,12 @@
 Standalone on purpose: it imports only the standard library and libcosimpy, so the clean-room
 test copies it into a virtual environment where aotv-cosim is not installed and runs
 
-    python libcosim_run.py FILE.ssp STOP comp.var [comp.var ...]
+    python libcosim_run.py FILE.ssp STOP comp.var [comp.var ...] [-- FILE.ssp STOP comp.var ...]
 
-which prints one JSON object: {"final": {signal: value}, "time": s, "wall_time_s": s,
-"steps_wall_s": s, "aotv_cosim_from": the file the FMUs imported aotv_cosim from}. libcosim reads the step from the SSD's OSP FixedStepAlgorithm annotation,
+which prints one JSON object per system, one after another in this process, on one line:
+{"final": {signal: value}, "time": s, "wall_time_s": s, "steps_wall_s": s, "aotv_cosim_from":
+[the files of the bundled runtimes the FMUs imported so far]} (a list of them with several
+systems). libcosim reads the step from the SSD's OSP FixedStepAlgorithm annotation,
 steps every component from the same communication point (in parallel worker threads) and then
 transfers outputs to inputs: the Jacobi scheme. Times are integer nanoseconds in libcosim.
 """
@@ -40,11 +42,30 @@ def run(ssp, stop, signals, log_level="WARNING"):
     for signal in signals:
         comp, var = signal.split(".", 1)
         final[signal] = observer.last_real_values(index[comp], [references[comp][var]])[0]
-    loaded = sys.modules.get("aotv_cosim")
     return {"final": final, "time": execution.status().current_time / 1e9,
             "wall_time_s": wall2 - wall0, "steps_wall_s": wall2 - wall1,
-            "aotv_cosim_from": getattr(loaded, "__file__", None)}
+            "aotv_cosim_from": bundled_runtimes()}
+
+
+def bundled_runtimes():
+    """Files of the FMUs' bundled runtime packages (aotv_cosim_<hash>) imported in this process,
+    and of aotv_cosim itself if an FMU imported it."""
+    return sorted(getattr(module, "__file__", None) or "" for name, module in list(sys.modules.items())
+                  if name == "aotv_cosim" or name.startswith("aotv_cosim_") and "." not in name)
+
+
+def systems(argv):
+    """[(ssp, stop, signals)] of the command line (groups separated by --)."""
+    groups, group = [], []
+    for arg in argv + ["--"]:
+        if arg == "--":
+            groups.append((group[0], float(group[1]), group[2:]))
+            group = []
+        else:
+            group.append(arg)
+    return groups
 
 
 if __name__ == "__main__":
-    print(json.dumps(run(sys.argv[1], float(sys.argv[2]), sys.argv[3:])))
+    results = [run(*system) for system in systems(sys.argv[1:])]
+    print(json.dumps(results[0] if len(results) == 1 else results))
