@@ -79,13 +79,21 @@ compared to the master's rounded to them (half a unit of the last decimal, plus 
 def ecos_unavailable():
     """Why ecospy cannot run here (the skip reason), or None."""
     try:
-        import ecospy
-
-        ecospy.EcosLib.version()
+        ecos_run.load_ecospy().EcosLib.version()
     except (ImportError, OSError) as exc:  # OSError: libecosc.so needs libtbb.so.12
-        return (f"ecospy cannot load ({exc}): pip install ecospy; it needs libtbb.so.12 "
-                "(Debian/Ubuntu: apt-get install libtbb12), see docs/hosts.md")
+        return (f"ecospy cannot load ({exc}): pip install ecospy tbb, or the system's libtbb.so.12 "
+                "(Debian/Ubuntu: apt-get install libtbb12); see docs/hosts.md")
     return None
+
+
+def pip_tbb_env():
+    """The environment of a process that runs the `ecos` executable: PyPI's libtbb.so.12 (from the
+    `tbb` package, in sys.prefix/lib) found after the system's, if the system has none."""
+    env = dict(os.environ)
+    if os.path.isfile(os.path.join(sys.prefix, "lib", "libtbb.so.12")):
+        env["LD_LIBRARY_PATH"] = os.pathsep.join(filter(None, [env.get("LD_LIBRARY_PATH"),
+                                                              os.path.join(sys.prefix, "lib")]))
+    return env
 
 
 ECOS_SKIP = pytest.mark.skipif(ecos_unavailable() is not None, reason=str(ecos_unavailable()))
@@ -176,7 +184,7 @@ def test_ecos_command_line_matches_jacobi_master(name, tmp_path):
     # to 740.0000000000997 s, so --stopTime 740 would end at 739.9 s; half a step more ends at 740.
     done = subprocess.run([ecos, "simulate", "--path", str(ssp), "--stopTime", repr(scenario.stop + scenario.step / 2),
                            "--stepSize", repr(scenario.step), "--parameterSet", "scenario", "-l", "warn"],
-                          capture_output=True, text=True, cwd=tmp_path)
+                          capture_output=True, text=True, cwd=tmp_path, env=pip_tbb_env())
     assert (tmp_path / "system.csv").is_file(), (done.returncode, done.stdout[-2000:], done.stderr[-2000:])
     with open(tmp_path / "system.csv", newline="") as stream:
         rows = list(csv.reader(stream))

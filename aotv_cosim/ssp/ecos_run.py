@@ -11,10 +11,13 @@ parameter set applied is the one named `PARAMETER_SET` (every SSV this package e
 name). Ecos steps every component from the same communication point, then transfers outputs to
 inputs (the Jacobi scheme); its variables are named ``component::variable``.
 
-ecospy 0.7 needs libtbb.so.12 (Debian: ``apt-get install libtbb12``); its wheel installs the
-``ecos`` and ``proxyfmu`` executables without execute permission (`executable` copies one with it).
+ecospy 0.7 needs libtbb.so.12: the system's (Debian: ``apt-get install libtbb12``) or, where the
+system has none, the one PyPI's ``tbb`` wheel installs in ``<sys.prefix>/lib`` (`load_ecospy`).
+Its wheel installs the ``ecos`` and ``proxyfmu`` executables without execute permission
+(`executable` copies one with it).
 """
 
+import ctypes
 import json
 import os
 import shutil
@@ -37,11 +40,25 @@ def experiment(ssp):
     return float(node.get("startTime", "0")), float(node.find(f".//{OSP}FixedStepAlgorithm").get("baseStepSize"))
 
 
+def load_ecospy():
+    """The ecospy module; when its library finds no libtbb.so.12 on the system, loaded again after
+    the one of PyPI's `tbb` package (sys.prefix/lib), made global so that its soname is resolved."""
+    try:
+        import ecospy
+    except OSError:
+        tbb = os.path.join(sys.prefix, "lib", "libtbb.so.12")
+        if not os.path.isfile(tbb):
+            raise
+        ctypes.CDLL(tbb, mode=ctypes.RTLD_GLOBAL)
+        import ecospy
+    return ecospy
+
+
 def run(ssp, stop, signals):
     """Simulate `ssp` in Ecos from its start to `stop` (s) by its step; the last values of the
     Real `signals` ('component.variable')."""
-    from ecospy import EcosLib, EcosSimulation
-
+    ecospy = load_ecospy()
+    EcosLib, EcosSimulation = ecospy.EcosLib, ecospy.EcosSimulation
     EcosLib.set_log_level("warn")
     start, step = experiment(ssp)
     wall = time.perf_counter()
@@ -58,9 +75,7 @@ def run(ssp, stop, signals):
 def executable(name, folder):
     """A copy of ecospy's `name` executable ('ecos', 'proxyfmu') in `folder`, with execute
     permission (the wheel installs it without); None where ecospy has no such binary."""
-    import ecospy
-
-    source = os.path.join(os.path.dirname(ecospy.__file__), "binaries", name)
+    source = os.path.join(os.path.dirname(load_ecospy().__file__), "binaries", name)
     if not os.path.isfile(source):
         return None
     target = shutil.copy(source, os.path.join(folder, name))
