@@ -11,8 +11,7 @@ resources under a name of its own (aotv_cosim_<hash>, `aotv_cosim.fmu.build.isol
   outputs repeat to the bit, twice (a state can be restored more than once).
 - `test_fmu_outputs_finite_on_zero_inputs`: every input set to 0 (what a tool that starts its
   connectors at 0 gives before the first exchange, e.g. FMPy's SSP simulator), every output read
-  in initialization mode is finite (every FMU in one subprocess: their extracted folders stay,
-  and they bundle the same runtime sources).
+  in initialization mode is finite (every FMU in one subprocess, each with its own runtime).
 """
 
 import json
