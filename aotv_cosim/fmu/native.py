@@ -40,20 +40,52 @@ PROMOTE_SOURCE = """\
 #include <stdlib.h>
 #include <wchar.h>
 
+typedef int (*IntOfVoid)(void);
+typedef void *(*PtrOfVoid)(void);
+
+static void *python;
+
+/* At exit of a process whose interpreter this helper started: Python's buffered stdout and
+   stderr are written out (the interpreter itself is never finalized, see below). */
+static void aotv_flush_python_stdio(void)
+{
+    IntOfVoid ensure = (IntOfVoid)dlsym(python, "PyGILState_Ensure");
+    void (*release)(int) = (void (*)(int))dlsym(python, "PyGILState_Release");
+    int (*run)(const char *) = (int (*)(const char *))dlsym(python, "PyRun_SimpleString");
+    IntOfVoid is_initialized = (IntOfVoid)dlsym(python, "Py_IsInitialized");
+    if (ensure == NULL || release == NULL || run == NULL || is_initialized == NULL || !is_initialized())
+        return;
+    int state = ensure();
+    run("import sys\\nfor s in (sys.stdout, sys.stderr):\\n    try: s.flush()\\n    except Exception: pass\\n");
+    release(state);
+}
+
 /* Runs when the FMU binary is loaded, before any FMI call: make the libpython it needs global, so
-   that CPython's extension modules resolve its symbols, and, unless the user set PYTHONHOME or an
-   interpreter is already running (a Python host), point the embedded interpreter at the Python
-   installation the FMU was built with (CPython would otherwise take its prefix from the first
-   python3 on PATH). */
+   that CPython's extension modules resolve its symbols. In a process without a running
+   interpreter (a C host), start one here, pointed at the Python installation the FMU was built
+   with unless PYTHONHOME is set (CPython would otherwise take its prefix from the first python3
+   on PATH), without Python's signal handlers (Ctrl-C stays the host's), and release its lock.
+   pythonfmu's wrapper then finds an interpreter running and leaves it alone: it never calls
+   Py_Finalize, which at exit crashed the host in the teardown of extension modules (scipy's
+   _uarray) that do not support finalization. The operating system reclaims the interpreter's
+   memory at exit, after its stdio is flushed. */
 __attribute__((constructor)) static void aotv_promote_libpython(void)
 {
-    void *python = dlopen(LIBPYTHON_SONAME, RTLD_NOW | RTLD_GLOBAL | RTLD_NOLOAD);
+    python = dlopen(LIBPYTHON_SONAME, RTLD_NOW | RTLD_GLOBAL | RTLD_NOLOAD | RTLD_NODELETE);
     if (python == NULL)
         return;
-    int (*is_initialized)(void) = (int (*)(void))dlsym(python, "Py_IsInitialized");
+    IntOfVoid is_initialized = (IntOfVoid)dlsym(python, "Py_IsInitialized");
     void (*set_home)(const wchar_t *) = (void (*)(const wchar_t *))dlsym(python, "Py_SetPythonHome");
-    if (is_initialized != NULL && set_home != NULL && !is_initialized() && getenv("PYTHONHOME") == NULL)
+    void (*initialize)(int) = (void (*)(int))dlsym(python, "Py_InitializeEx");
+    PtrOfVoid save_thread = (PtrOfVoid)dlsym(python, "PyEval_SaveThread");
+    if (is_initialized == NULL || set_home == NULL || initialize == NULL || save_thread == NULL
+        || is_initialized())
+        return;
+    if (getenv("PYTHONHOME") == NULL)
         set_home(PYTHON_HOME);
+    initialize(0);
+    save_thread();
+    atexit(aotv_flush_python_stdio);
 }
 """
 
@@ -107,7 +139,7 @@ def patch_linux_binary(members: dict, model_identifier: str) -> None:
         source, helper, binary = Path(tmp) / "promote.c", Path(tmp) / HELPER, Path(tmp) / "fmu.so"
         source.write_text(PROMOTE_SOURCE)
         subprocess.run(["gcc", "-shared", "-fPIC", "-O2", f'-DLIBPYTHON_SONAME="{soname}"', f'-DPYTHON_HOME=L"{home}"',
-                        "-o", str(helper), str(source), "-ldl"], check=True, capture_output=True)
+                        "-Wl,-z,nodelete", "-o", str(helper), str(source), "-ldl"], check=True, capture_output=True)
         binary.write_bytes(members[name])
         subprocess.run([patchelf_program(), "--add-needed", soname, "--add-needed", HELPER,
                         "--set-rpath", f"$ORIGIN:{libdir}", str(binary)], check=True, capture_output=True)
