@@ -12,7 +12,8 @@ an order that rotates between rounds. Per communication step, medians over the r
   the SSP and instantiating excluded) and wall time. libcosim steps the components in parallel
   worker threads, which the FMUs' Python serializes on the GIL.
 Then the ratios: libcosim stock / lean (how much faster libcosim steps the lean FMUs), master
-lean / stock, and master / libcosim for each wrapper. The final values of every state output
+lean / stock, master / libcosim for each wrapper, and this master as shipped (lean FMUs) /
+libcosim with pythonfmu's FMUs. The final values of every state output
 must be the same to the bit with either wrapper, in the master and in libcosim (else it stops).
 """
 
@@ -106,18 +107,15 @@ def libcosim_step(ssp, scenario):
     return {"cpu": cpu / steps / 1e3, "wall": wall / steps / 1e3}, final
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=7)
-    args = parser.parse_args()
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
-          f"Python {platform.python_version()}, load average {os.getloadavg()[0]:.1f}")
+def measure(repeats):
+    """{(engine, wrapper): {"cpu": us, "wall": us}} per step, medians of `repeats` interleaved
+    rounds after a warm-up round; stops unless lean and stock give the same final values."""
     timings = {(engine, w): {"cpu": [], "wall": []} for engine in ("master", "libcosim") for w in WRAPPERS}
     finals = {}
     with tempfile.TemporaryDirectory() as tmp:
         systems = {w: prepared(w, tmp) for w in WRAPPERS}
-        runs = [(engine, w) for engine in ("master", "libcosim") for w in WRAPPERS]
-        for k in range(args.repeats + 1):  # round 0 warms up (imports, extraction) and is not counted
+        runs = list(timings)
+        for k in range(repeats + 1):  # round 0 warms up (imports, extraction) and is not counted
             for engine, w in runs[k % len(runs):] + runs[:k % len(runs)]:
                 scenario, ssp = systems[w]
                 step, final = master_step(scenario) if engine == "master" else libcosim_step(ssp, scenario)
@@ -126,21 +124,36 @@ def main():
                         timings[engine, w][key].append(step[key])
                 finals.setdefault(engine, {}).setdefault(w, final)
     for engine in ("master", "libcosim"):
-        same = finals[engine]["lean"] == finals[engine]["stock"]
-        print(f"{engine}: final values of {len(finals[engine]['lean'])} state outputs, lean vs stock: "
-              f"{'identical' if same else 'DIFFERENT'}")
-        assert same, (finals[engine]["lean"], finals[engine]["stock"])
-    med = {key: {k: statistics.median(v) for k, v in values.items()} for key, values in timings.items()}
+        assert finals[engine]["lean"] == finals[engine]["stock"], (engine, finals[engine])
+        print(f"  {engine}: final values of {len(finals[engine]['lean'])} state outputs identical with "
+              f"the lean and the stock wrapper")
+    return {key: {k: statistics.median(v) for k, v in values.items()} for key, values in timings.items()}
+
+
+def ratios(med, clock):
+    """{name: ratio} of the `measure` medians on `clock` ("cpu" or "wall")."""
+    out = {"libcosim stock / lean": med["libcosim", "stock"][clock] / med["libcosim", "lean"][clock],
+           "master lean / stock": med["master", "lean"][clock] / med["master", "stock"][clock]}
+    for w in WRAPPERS:
+        out[f"master / libcosim, {w} FMUs"] = med["master", w][clock] / med["libcosim", w][clock]
+    out["master lean / libcosim stock"] = med["master", "lean"][clock] / med["libcosim", "stock"][clock]
+    return out
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
+          f"Python {platform.python_version()}, load average {os.getloadavg()[0]:.1f}")
+    med = measure(args.repeats)
     for (engine, w), values in med.items():
         print(f"{engine:<9} {w:<6} CPU {values['cpu']:8.1f} us/step   wall {values['wall']:8.1f} us/step"
               f"   (medians of {args.repeats})")
     for clock in ("cpu", "wall"):
         print(f"ratios, {clock}:")
-        print(f"  libcosim stock / lean     {med['libcosim', 'stock'][clock] / med['libcosim', 'lean'][clock]:6.2f}"
-              f"   (target >= 3)")
-        print(f"  master lean / stock       {med['master', 'lean'][clock] / med['master', 'stock'][clock]:6.3f}")
-        for w in WRAPPERS:
-            print(f"  master / libcosim, {w:<5}  {med['master', w][clock] / med['libcosim', w][clock]:6.3f}")
+        for name, value in ratios(med, clock).items():
+            print(f"  {name:<30} {value:6.3f}" + ("   (target >= 3)" if name.startswith("libcosim") else ""))
 
 
 if __name__ == "__main__":

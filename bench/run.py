@@ -12,7 +12,9 @@ interleaved with the measured runs. Definitions (docs/performance.md):
    per step (copies, bookkeeping, stop conditions, recording every signal) is included. Also
    the whole step: the loop's CPU per step with the FMUs' work (issue 17 target 1, <= 40 us).
 2. Master time per step against OSP libcosim's (libcosimpy) on the same system exported to SSP
-   (aotv_cosim.ssp), same FMUs and step: stepping wall time, and whole-run CPU time.
+   (aotv_cosim.ssp), same FMUs and step: stepping wall time, and whole-run CPU time. Then the
+   FMUs' lean FMI wrapper against pythonfmu's own in both (bench/bench_libcosim.py): libcosim's
+   stepping CPU with stock / with lean FMUs (>= 3), and the master's ratios.
 3. Nominal pass with the exit located: |error| of exit altitude and speed against the monolithic
    SciPy reference and the wall time of the whole run (instantiation included).
 4. Monte Carlo: a 1000-run campaign on 2 local workers (<= 10 s), CPU per run (<= 15 ms),
@@ -165,6 +167,23 @@ def target_libcosim(repeats):
         note = " (CPU of all libcosim threads)" if key == "whole-run CPU" else ""
         print(f"     master {statistics.median(ours[key]):.1f} us/step, "
               f"libcosim {statistics.median(peer[key]):.1f} us/step{note}")
+    target_wrapper(repeats)
+
+
+def target_wrapper(repeats):
+    """The FMUs' lean FMI wrapper against pythonfmu's (stock), stepping CPU (bench_libcosim.py)."""
+    import bench_libcosim
+
+    print("2b. lean vs stock FMI wrapper in the FMUs, same system and step, CPU per step")
+    med = bench_libcosim.measure(repeats)
+    speedup = bench_libcosim.ratios(med, "cpu")
+    report("libcosim stepping, stock / lean FMUs", f"{speedup['libcosim stock / lean']:.2f}", ">= 3",
+           speedup["libcosim stock / lean"] >= 3)
+    for name in ("master lean / stock", "master / libcosim, stock FMUs", "master / libcosim, lean FMUs",
+                 "master lean / libcosim stock"):
+        print(f"     {name}: {speedup[name]:.3f}")
+    print("     " + ", ".join(f"{engine} {w} {values['cpu']:.1f}" for (engine, w), values in med.items())
+          + " us/step")
 
 
 def target_accuracy(repeats):

@@ -121,3 +121,15 @@ def test_unpatched_binary_does_not_load_in_a_c_host(host, unpacked, tmp_path):
                 dst.writestr(info, data)
     with pytest.raises(AssertionError, match="undefined symbol"):
         run_in_c_host(host, [unpacked(raw)[0]], tmp_path)
+
+
+@pytest.mark.parametrize("name", ["PointMassVehicle", "TimeLinearGuidance", "ShuttleLqr"])
+def test_lean_and_stock_wrappers_compute_the_same_in_a_c_host(name, host, unpacked, tmp_path, monkeypatch):
+    """The FMU built with pythonfmu's own wrapper (AOTV_COSIM_WRAPPER=stock) and with the lean one
+    (the default) give the same output to the bit, and both exit cleanly."""
+    monkeypatch.setenv(fmu_native.WRAPPER_VARIABLE, "lean")
+    lean = unpacked(fmu_build.ensure_fmu(name))[0]
+    monkeypatch.setenv(fmu_native.WRAPPER_VARIABLE, "stock")
+    stock = unpacked(fmu_build.ensure_fmu(name))[0]
+    assert lean[0] != stock[0]
+    assert run_in_c_host(host, [lean], tmp_path) == run_in_c_host(host, [stock], tmp_path)

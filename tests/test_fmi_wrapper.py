@@ -182,3 +182,29 @@ def test_lean_binary_is_the_lean_wrapper(probes):
         lean_so, stock_so = (a.read("binaries/linux64/Probe.so") for a in (lean, stock))
     assert b"PySlaveInstance" in stock_so and b"PySlaveInstance" not in lean_so
     assert b"fmi2DoStep" in lean_so
+
+
+def test_libcosim_steps_lean_and_stock_fmus_to_the_same_values(tmp_path, monkeypatch):
+    """The seed-000 system exported twice, with lean and with stock FMUs, run by OSP libcosim (its
+    worker threads call the FMUs, threads without a Python thread state): same final values to the
+    bit."""
+    pytest.importorskip("libcosimpy")
+    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.ssp import libcosim_run
+    from aotv_cosim.ssp.export import export_ssp
+    from conftest import SCENARIOS
+
+    finals = {}
+    for wrapper in native.WRAPPERS:
+        monkeypatch.setenv(native.WRAPPER_VARIABLE, wrapper)
+        scenario = load_scenario(SCENARIOS / "aotv_time_linear_nominal.json")
+        scenario.stop_conditions = []
+        ssp = export_ssp(scenario, tmp_path / f"{wrapper}.ssp")
+        signals = [f"{c.name}.{o}" for c in scenario.system.components.values() for o in c.fmu.feedthrough
+                   if o != "solve_time"]
+        done = subprocess.run([sys.executable, libcosim_run.__file__, str(ssp), "60", *signals], capture_output=True,
+                              text=True, cwd=tmp_path, timeout=600)
+        assert done.returncode == 0, done.stderr[-3000:]
+        finals[wrapper] = json.loads(done.stdout.strip().splitlines()[-1])["final"]
+    assert finals["lean"] == finals["stock"]
+    assert len(finals["lean"]) > 20
