@@ -208,3 +208,13 @@ def test_libcosim_steps_lean_and_stock_fmus_to_the_same_values(tmp_path, monkeyp
         finals[wrapper] = json.loads(done.stdout.strip().splitlines()[-1])["final"]
     assert finals["lean"] == finals["stock"]
     assert len(finals["lean"]) > 20
+
+
+def test_unknown_wrapper_is_refused(monkeypatch):
+    from aotv_cosim.engine.errors import InputError
+
+    monkeypatch.setenv(native.WRAPPER_VARIABLE, "fast")
+    with pytest.raises(InputError, match="unknown FMI wrapper 'fast'"):
+        native.wrapper()
+    monkeypatch.setenv(native.WRAPPER_VARIABLE, "Stock")
+    assert native.wrapper() == "stock"
