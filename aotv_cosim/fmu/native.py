@@ -35,6 +35,7 @@ is done (`patch_reason` says why) without gcc, patchelf or a shared libpython; t
 pythonfmu's binary as built, which loads in Python hosts and with LD_PRELOAD.
 """
 
+import functools
 import os
 import shutil
 import subprocess
@@ -48,6 +49,8 @@ from aotv_cosim.engine.errors import InputError
 HELPER = "libaotv_pyglobal.so"
 LEAN_SOURCE = Path(__file__).with_name("fmi2_lean.c")
 """The lean FMI 2.0 wrapper compiled into the Linux binary in place of pythonfmu's (`wrapper`)."""
+LEAN_FLAGS = ("-shared", "-fPIC", "-O2", "-DNDEBUG", "-fvisibility=hidden", "-Wl,-z,nodelete")
+"""gcc options of the lean wrapper (with the Python headers, the source's folder mapped to '.')."""
 WRAPPERS = ("lean", "stock")
 WRAPPER_VARIABLE = "AOTV_COSIM_WRAPPER"
 PROMOTE_SOURCE = """\
@@ -161,16 +164,22 @@ def fingerprint() -> str:
     """What the patch depends on, for the FMU source hash: the libpython, the helper source and
     the wrapper (with its source when it is the lean one)."""
     chosen = wrapper()
-    lean = LEAN_SOURCE.read_text() if chosen == "lean" else ""
+    lean = f"{LEAN_FLAGS} {LEAN_SOURCE.read_text()}" if chosen == "lean" else ""
     return f"native {patch_reason() or libpython()} {PROMOTE_SOURCE} wrapper {chosen} {lean}"
 
 
-def compile_lean(out: Path) -> None:
-    """Compile `LEAN_SOURCE` against the building Python's headers into the shared library `out`
-    (libpython left unresolved, as in pythonfmu's binary: `patch_linux_binary` links it)."""
-    subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-fvisibility=hidden", f"-I{python_headers()}",
-                    "-Wl,-z,nodelete", "-o", str(out), str(LEAN_SOURCE), "-lpthread"],
-                   check=True, capture_output=True)
+@functools.lru_cache(maxsize=2)
+def lean_library(source: str, headers: str) -> bytes:
+    """The shared library compiled from the lean wrapper's C `source` against the Python headers
+    in the folder `headers`, libpython left unresolved as in pythonfmu's binary
+    (`patch_linux_binary` links it); compiled once per process for every FMU built, to the same
+    bytes wherever it is compiled (no temporary path in the binary: reproducible FMUs)."""
+    with tempfile.TemporaryDirectory(prefix="aotv_lean_") as tmp:
+        code, out = Path(tmp) / LEAN_SOURCE.name, Path(tmp) / "lean.so"
+        code.write_text(source)
+        subprocess.run(["gcc", *LEAN_FLAGS, f"-I{headers}", f"-ffile-prefix-map={tmp}=.", "-o", str(out), str(code),
+                        "-lpthread"], check=True, capture_output=True)
+        return out.read_bytes()
 
 
 def patch_linux_binary(members: dict, model_identifier: str) -> None:
@@ -185,10 +194,8 @@ def patch_linux_binary(members: dict, model_identifier: str) -> None:
         source.write_text(PROMOTE_SOURCE)
         subprocess.run(["gcc", "-shared", "-fPIC", "-O2", f'-DLIBPYTHON_SONAME="{soname}"', f'-DPYTHON_HOME=L"{home}"',
                         "-Wl,-z,nodelete", "-o", str(helper), str(source), "-ldl"], check=True, capture_output=True)
-        if wrapper() == "lean":
-            compile_lean(binary)
-        else:
-            binary.write_bytes(members[name])
+        lean = wrapper() == "lean"
+        binary.write_bytes(lean_library(LEAN_SOURCE.read_text(), str(python_headers())) if lean else members[name])
         subprocess.run([patchelf_program(), "--add-needed", soname, "--add-needed", HELPER,
                         "--set-rpath", f"$ORIGIN:{libdir}", str(binary)], check=True, capture_output=True)
         members[name] = binary.read_bytes()
