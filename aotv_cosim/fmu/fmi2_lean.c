@@ -258,7 +258,8 @@ static PyObject *vr_list(Instance *c, enum Method m, const fmi2ValueReference vr
         }
         PyList_SET_ITEM(list, (Py_ssize_t)i, number);
     }
-    memcpy(copy, vr, n * sizeof *vr);
+    if (n > 0)
+        memcpy(copy, vr, n * sizeof *vr);
     VrList *slot = &lists[c->next_vr_list[m]];
     c->next_vr_list[m] = (c->next_vr_list[m] + 1) % VR_LISTS;
     Py_XDECREF(slot->list);
