@@ -12,7 +12,10 @@ interleaved with the measured runs. Definitions (docs/performance.md):
    per step (copies, bookkeeping, stop conditions, recording every signal) is included. Also
    the whole step: the loop's CPU per step with the FMUs' work (issue 17 target 1, <= 40 us).
 2. Master time per step against OSP libcosim's (libcosimpy) on the same system exported to SSP
-   (aotv_cosim.ssp), same FMUs and step: stepping wall time, and whole-run CPU time.
+   (aotv_cosim.ssp), same step, the master with the FMUs as built and libcosim with pythonfmu's
+   own wrapper in them (AOTV_COSIM_WRAPPER=stock): stepping wall time, and whole-run CPU. Then the
+   FMUs' lean FMI wrapper against pythonfmu's own in both (bench/bench_libcosim.py): libcosim's
+   stepping CPU with stock / with lean FMUs (>= 3), and the master's ratios.
 3. Nominal pass with the exit located: |error| of exit altitude and speed against the monolithic
    SciPy reference and the wall time of the whole run (instantiation included).
 4. Monte Carlo: a 1000-run campaign on 2 local workers (<= 10 s), CPU per run (<= 15 ms),
@@ -144,11 +147,14 @@ def target_libcosim(repeats):
     from aotv_cosim.ssp import libcosim_run
     from aotv_cosim.ssp.export import export_ssp
 
-    print("2. against OSP libcosim (libcosimpy) on the system exported to SSP, same FMUs and 0.1 s step")
+    from bench_libcosim import with_wrapper
+
+    print("2. against OSP libcosim (libcosimpy) on the system exported to SSP, 0.1 s step: this master with "
+          "the FMUs as built (lean wrapper), libcosim with pythonfmu's (stock wrapper)")
     scenario = load_scenario(NOMINAL)
     ours, peer = {"stepping wall": [], "whole-run CPU": []}, {"stepping wall": [], "whole-run CPU": []}
     with tempfile.TemporaryDirectory() as tmp:
-        ssp = export_ssp(scenario, Path(tmp) / "nominal.ssp")
+        ssp = with_wrapper("stock", lambda: export_ssp(load_scenario(NOMINAL), Path(tmp) / "nominal.ssp"))
         for _ in range(repeats):
             cpu0 = time.process_time()
             outcome = Master(scenario, lambda times, rows: None).run()
@@ -165,6 +171,23 @@ def target_libcosim(repeats):
         note = " (CPU of all libcosim threads)" if key == "whole-run CPU" else ""
         print(f"     master {statistics.median(ours[key]):.1f} us/step, "
               f"libcosim {statistics.median(peer[key]):.1f} us/step{note}")
+    target_wrapper(repeats)
+
+
+def target_wrapper(repeats):
+    """The FMUs' lean FMI wrapper against pythonfmu's (stock), stepping CPU (bench_libcosim.py)."""
+    import bench_libcosim
+
+    print("2b. lean vs stock FMI wrapper in the FMUs, same system and step, CPU per step")
+    med = bench_libcosim.measure(repeats)
+    speedup = bench_libcosim.ratios(med, "cpu")
+    report("libcosim stepping, stock / lean FMUs", f"{speedup['libcosim stock / lean']:.2f}", ">= 3",
+           speedup["libcosim stock / lean"] >= 3)
+    for name in ("master lean / stock", "master / libcosim, stock FMUs", "master / libcosim, lean FMUs",
+                 "master lean / libcosim stock"):
+        print(f"     {name}: {speedup[name]:.3f}")
+    print("     " + ", ".join(f"{engine} {w} {values['cpu']:.1f}" for (engine, w), values in med.items())
+          + " us/step")
 
 
 def target_accuracy(repeats):

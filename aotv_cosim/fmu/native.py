@@ -1,4 +1,5 @@
-"""Make the Linux binary of a pythonfmu FMU load in a plain C/C++ FMI host (issue 14 item 6).
+"""The Linux binary of the package's pythonfmu FMUs: a lean FMI wrapper, and loading and exiting
+cleanly in plain C/C++ FMI hosts.
 
 pythonfmu 0.7's ``binaries/linux64/<id>.so`` calls the CPython API but records no NEEDED entry
 for libpython: it loads only into a process that already has libpython's symbols (a Python host,
@@ -10,23 +11,32 @@ symbols stay local to the FMU, and the extension modules CPython itself loads la
 they are not linked to libpython) fail to resolve them. So the build, on Linux and when the
 building Python is a shared-library build:
 
-1. compiles `PROMOTE_SOURCE` (a constructor that re-opens the already loaded libpython with
-   RTLD_GLOBAL | RTLD_NOLOAD, making its symbols global before the FMU's code runs) into
-   ``binaries/linux64/libaotv_pyglobal.so``;
-   The helper also sets the embedded interpreter's home to the building Python's
-   ``sys.base_prefix`` (Py_SetPythonHome, unless PYTHONHOME is set or Python already runs):
-   CPython embedded in a C program otherwise derives its prefix from the first ``python3`` on
-   PATH, whose standard library may be another installation's.
-2. with patchelf, adds to the FMU binary NEEDED entries for the building Python's libpython
-   (its soname) and for that helper, and a RUNPATH ``$ORIGIN:<libpython's directory>``.
+1. compiles `PROMOTE_SOURCE` into ``binaries/linux64/libaotv_pyglobal.so``: a constructor that
+   re-opens the already loaded libpython with RTLD_GLOBAL | RTLD_NOLOAD | RTLD_NODELETE, making
+   its symbols global before the FMU's code runs. In a process without a running interpreter (a
+   C host) it also starts one: home set to the building Python's ``sys.base_prefix`` (unless
+   PYTHONHOME is set; CPython embedded in a C program otherwise derives its prefix from the first
+   ``python3`` on PATH), without Python's signal handlers. That interpreter is never finalized:
+   pythonfmu's wrapper finalizes only an interpreter it started itself, and its Py_Finalize at
+   exit crashed C hosts in the teardown of scipy's extension modules (status 139). Python's
+   stdout and stderr are flushed at exit instead.
+2. puts the FMI wrapper in the FMU binary (`wrapper`): by default the lean one, `LEAN_SOURCE`
+   compiled against the building Python's headers (same Python calls, statuses and results as
+   pythonfmu's, without its per-call costs: see that file); with ``AOTV_COSIM_WRAPPER=stock``,
+   pythonfmu's own binary, kept for comparison.
+3. with patchelf, adds to that binary NEEDED entries for the building Python's libpython (its
+   soname) and for the helper, and a RUNPATH ``$ORIGIN:<libpython's directory>``.
 
 The FMU then loads in a C host on the build machine (or one with the same Python installation
 at the same path): the embedded interpreter finds that installation's standard library and
 site-packages (numpy, scipy; pythonfmu's runtime is bundled). Packages installed only in a
-virtual environment the build ran in are not on that path (set PYTHONPATH in the host). Nothing is done (`patch_reason` says why) without gcc, patchelf or a shared libpython;
-the FMU is then pythonfmu's binary as built, which loads in Python hosts and with LD_PRELOAD.
+virtual environment the build ran in are not on that path (set PYTHONPATH in the host). Nothing
+is done (`patch_reason` says why) without gcc, patchelf or a shared libpython; the FMU is then
+pythonfmu's binary as built, which loads in Python hosts and with LD_PRELOAD.
 """
 
+import functools
+import os
 import shutil
 import subprocess
 import sys
@@ -34,26 +44,66 @@ import sysconfig
 import tempfile
 from pathlib import Path
 
+from aotv_cosim.engine.errors import InputError
+
 HELPER = "libaotv_pyglobal.so"
+LEAN_SOURCE = Path(__file__).with_name("fmi2_lean.c")
+"""The lean FMI 2.0 wrapper compiled into the Linux binary in place of pythonfmu's (`wrapper`)."""
+LEAN_FLAGS = ("-shared", "-fPIC", "-O2", "-DNDEBUG", "-fvisibility=hidden", "-Wl,-z,nodelete")
+"""gcc options of the lean wrapper (with the Python headers, the source's folder mapped to '.')."""
+WRAPPERS = ("lean", "stock")
+WRAPPER_VARIABLE = "AOTV_COSIM_WRAPPER"
 PROMOTE_SOURCE = """\
 #include <dlfcn.h>
 #include <stdlib.h>
 #include <wchar.h>
 
+typedef int (*IntOfVoid)(void);
+typedef void *(*PtrOfVoid)(void);
+
+static void *python;
+
+/* At exit of a process whose interpreter this helper started: Python's buffered stdout and
+   stderr are written out (the interpreter itself is never finalized, see below). */
+static void aotv_flush_python_stdio(void)
+{
+    IntOfVoid ensure = (IntOfVoid)dlsym(python, "PyGILState_Ensure");
+    void (*release)(int) = (void (*)(int))dlsym(python, "PyGILState_Release");
+    int (*run)(const char *) = (int (*)(const char *))dlsym(python, "PyRun_SimpleString");
+    IntOfVoid is_initialized = (IntOfVoid)dlsym(python, "Py_IsInitialized");
+    if (ensure == NULL || release == NULL || run == NULL || is_initialized == NULL || !is_initialized())
+        return;
+    int state = ensure();
+    run("import sys\\nfor s in (sys.stdout, sys.stderr):\\n    try: s.flush()\\n    except Exception: pass\\n");
+    release(state);
+}
+
 /* Runs when the FMU binary is loaded, before any FMI call: make the libpython it needs global, so
-   that CPython's extension modules resolve its symbols, and, unless the user set PYTHONHOME or an
-   interpreter is already running (a Python host), point the embedded interpreter at the Python
-   installation the FMU was built with (CPython would otherwise take its prefix from the first
-   python3 on PATH). */
+   that CPython's extension modules resolve its symbols. In a process without a running
+   interpreter (a C host), start one here, pointed at the Python installation the FMU was built
+   with unless PYTHONHOME is set (CPython would otherwise take its prefix from the first python3
+   on PATH), without Python's signal handlers (Ctrl-C stays the host's), and release its lock.
+   pythonfmu's wrapper then finds an interpreter running and leaves it alone: it never calls
+   Py_Finalize, which at exit crashed the host in the teardown of extension modules (scipy's
+   _uarray) that do not support finalization. The operating system reclaims the interpreter's
+   memory at exit, after its stdio is flushed. */
 __attribute__((constructor)) static void aotv_promote_libpython(void)
 {
-    void *python = dlopen(LIBPYTHON_SONAME, RTLD_NOW | RTLD_GLOBAL | RTLD_NOLOAD);
+    python = dlopen(LIBPYTHON_SONAME, RTLD_NOW | RTLD_GLOBAL | RTLD_NOLOAD | RTLD_NODELETE);
     if (python == NULL)
         return;
-    int (*is_initialized)(void) = (int (*)(void))dlsym(python, "Py_IsInitialized");
+    IntOfVoid is_initialized = (IntOfVoid)dlsym(python, "Py_IsInitialized");
     void (*set_home)(const wchar_t *) = (void (*)(const wchar_t *))dlsym(python, "Py_SetPythonHome");
-    if (is_initialized != NULL && set_home != NULL && !is_initialized() && getenv("PYTHONHOME") == NULL)
+    void (*initialize)(int) = (void (*)(int))dlsym(python, "Py_InitializeEx");
+    PtrOfVoid save_thread = (PtrOfVoid)dlsym(python, "PyEval_SaveThread");
+    if (is_initialized == NULL || set_home == NULL || initialize == NULL || save_thread == NULL
+        || is_initialized())
+        return;
+    if (getenv("PYTHONHOME") == NULL)
         set_home(PYTHON_HOME);
+    initialize(0);
+    save_thread();
+    atexit(aotv_flush_python_stdio);
 }
 """
 
@@ -91,9 +141,45 @@ def patch_reason():
     return None
 
 
+def python_headers():
+    """The folder holding the building Python's Python.h, or None."""
+    folder = Path(sysconfig.get_paths()["include"])
+    return folder if (folder / "Python.h").is_file() else None
+
+
+def wrapper() -> str:
+    """The FMI wrapper of the Linux binary: "lean" (`LEAN_SOURCE`, the default) or "stock"
+    (pythonfmu's), as $AOTV_COSIM_WRAPPER asks; "stock" where the binary cannot be patched or the
+    building Python has no headers."""
+    asked = os.environ.get(WRAPPER_VARIABLE, "lean").strip().lower() or "lean"
+    if asked not in WRAPPERS:
+        raise InputError(f"unknown FMI wrapper {asked!r}", file="environment", entry=WRAPPER_VARIABLE,
+                         fix=f"set {WRAPPER_VARIABLE} to one of {', '.join(WRAPPERS)} or unset it")
+    if asked == "lean" and (patch_reason() is not None or python_headers() is None):
+        return "stock"
+    return asked
+
+
 def fingerprint() -> str:
-    """What the patch depends on, for the FMU source hash: the libpython and the helper source."""
-    return f"native {patch_reason() or libpython()} {PROMOTE_SOURCE}"
+    """What the patch depends on, for the FMU source hash: the libpython, the helper source and
+    the wrapper (with its source when it is the lean one)."""
+    chosen = wrapper()
+    lean = f"{LEAN_FLAGS} {LEAN_SOURCE.read_text()}" if chosen == "lean" else ""
+    return f"native {patch_reason() or libpython()} {PROMOTE_SOURCE} wrapper {chosen} {lean}"
+
+
+@functools.lru_cache(maxsize=2)
+def lean_library(source: str, headers: str) -> bytes:
+    """The shared library compiled from the lean wrapper's C `source` against the Python headers
+    in the folder `headers`, libpython left unresolved as in pythonfmu's binary
+    (`patch_linux_binary` links it); compiled once per process for every FMU built, to the same
+    bytes wherever it is compiled (no temporary path in the binary: reproducible FMUs)."""
+    with tempfile.TemporaryDirectory(prefix="aotv_lean_") as tmp:
+        code, out = Path(tmp) / LEAN_SOURCE.name, Path(tmp) / "lean.so"
+        code.write_text(source)
+        subprocess.run(["gcc", *LEAN_FLAGS, f"-I{headers}", f"-ffile-prefix-map={tmp}=.", "-o", str(out), str(code),
+                        "-lpthread"], check=True, capture_output=True)
+        return out.read_bytes()
 
 
 def patch_linux_binary(members: dict, model_identifier: str) -> None:
@@ -107,8 +193,9 @@ def patch_linux_binary(members: dict, model_identifier: str) -> None:
         source, helper, binary = Path(tmp) / "promote.c", Path(tmp) / HELPER, Path(tmp) / "fmu.so"
         source.write_text(PROMOTE_SOURCE)
         subprocess.run(["gcc", "-shared", "-fPIC", "-O2", f'-DLIBPYTHON_SONAME="{soname}"', f'-DPYTHON_HOME=L"{home}"',
-                        "-o", str(helper), str(source), "-ldl"], check=True, capture_output=True)
-        binary.write_bytes(members[name])
+                        "-Wl,-z,nodelete", "-o", str(helper), str(source), "-ldl"], check=True, capture_output=True)
+        lean = wrapper() == "lean"
+        binary.write_bytes(lean_library(LEAN_SOURCE.read_text(), str(python_headers())) if lean else members[name])
         subprocess.run([patchelf_program(), "--add-needed", soname, "--add-needed", HELPER,
                         "--set-rpath", f"$ORIGIN:{libdir}", str(binary)], check=True, capture_output=True)
         members[name] = binary.read_bytes()
