@@ -5,8 +5,8 @@
    x (m) grows at `rate` (m/s) while `mode` is Ramp (2) and holds while it is Hold (1); mode_out
    repeats mode, ramping says whether it ramps, ticks counts the steps taken. When a step reaches
    `terminate_at` (s) the FMU stops there: fmi2DoStep returns fmi2Discard, fmi2Terminated is true and
-   fmi2LastSuccessfulTime is terminate_at. With `fixed_step` > 0 (s) a step of another size is an
-   error, as an FMU that declares canHandleVariableCommunicationStepSize="false" may answer. */
+   fmi2LastSuccessfulTime is terminate_at. With `fixed_step` > 0 (s) a step of another size (to the
+   bit) is an error, as an FMU that declares canHandleVariableCommunicationStepSize="false" may answer. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -150,7 +150,7 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set_prior) {
     Modes *m = c;
     if (m->terminated) { log_error(m, "fmi2DoStep after a terminate request"); return fmi2Error; }
-    if (m->fixed_step > 0 && fabs(h - m->fixed_step) > 1e-12 * m->fixed_step) {
+    if (m->fixed_step > 0 && h != m->fixed_step) {
         log_error(m, "this FMU only takes steps of fixed_step");
         return fmi2Error;
     }

@@ -393,7 +393,8 @@ class Master:
         start, h, stop = s.start, s.step, s.stop
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
         # an FMU that cannot vary its step gets h for the last one too (stop is start + n h,
-        # `capabilities.check_capabilities`), not stop - t, which rounding makes differ from h
+        # `capabilities.check_capabilities`), not stop - t, which rounding makes differ from h;
+        # the last point recorded is then the time it reached, start + n h
         fixed_only = bool(fixed_step_components(s.system))
         conditions = self.watches()
         watched = [idx for idx, *_ in conditions]
@@ -416,7 +417,7 @@ class Master:
                 t = start + k * h
                 last = k == n_steps - 1
                 step = (h if fixed_only else stop - t) if last else h
-                t_new = stop if last else start + (k + 1) * h
+                t_new = stop if last and not fixed_only else start + (k + 1) * h
                 advance(t, step, t_new)
                 if extrapolate is not None:
                     extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new, last_values)

@@ -189,8 +189,8 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
     )
     _check_times(scenario)
-    _check_signals(scenario, doc)
     check_capabilities(scenario)
+    _check_signals(scenario, doc)
     scenario.expectations = [_enumerated(scenario.system, e) for e in scenario.expectations]
     return scenario
 
