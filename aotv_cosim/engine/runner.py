@@ -40,6 +40,11 @@ def recorded_columns(scenario):
     return list(dict.fromkeys(wanted))
 
 
+def numeric_columns(scenario) -> list:
+    """The recorded columns a campaign row holds as numbers: every one but the String outputs."""
+    return [c for c in recorded_columns(scenario) if scenario.system.variable(c).type != "String"]
+
+
 def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)):
     """Run and write results; returns the summary dict (also in out_dir/summary.json)."""
     return write_run(scenario, out_dir, progress, make_plots, formats).summary
