@@ -208,8 +208,11 @@ class FmuInstance:
 
     def refused_step(self, time: float, status: int) -> Exception:
         """What a fmi2DoStep from `time` that returned `status` (> warning) means: a
-        TerminateRequest when the FMU discarded the step to end the simulation, else the failure."""
-        if status == 2:
+        TerminateRequest when the FMU discarded the step to end the simulation, else the failure.
+        A discard whose last log message is an error is a failure even with fmi2Terminated true:
+        pythonfmu answers true after any do_step that returned False, a failed step among them."""
+        failed_loudly = bool(self.messages) and self.messages[-1][0] in ("error", "fatal")
+        if status == 2 and not failed_loudly:
             last = self.terminate_request()
             if last is not None:
                 return TerminateRequest(self.name, time, None if math.isnan(last) else last)
