@@ -6,19 +6,20 @@
    repeats mode, ramping says whether it ramps, ticks counts the steps taken. When a step reaches
    `terminate_at` (s) the FMU stops there: fmi2DoStep returns fmi2Discard, fmi2Terminated is true and
    fmi2LastSuccessfulTime is terminate_at. With `fixed_step` > 0 (s) a step of another size (to the
-   bit) is an error, as an FMU that declares canHandleVariableCommunicationStepSize="false" may answer. */
+   bit) is an error, as an FMU that declares canHandleVariableCommunicationStepSize="false" may answer.
+   A step reaching `discard_at` (s) returns fmi2Discard without a terminate request. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fmi2Functions.h"
 
-enum { VR_MODE, VR_RATE, VR_TERMINATE_AT, VR_X, VR_MODE_OUT, VR_TICKS, VR_RAMPING, VR_FIXED_STEP, N_VR };
+enum { VR_MODE, VR_RATE, VR_TERMINATE_AT, VR_X, VR_MODE_OUT, VR_TICKS, VR_RAMPING, VR_FIXED_STEP, VR_DISCARD_AT, N_VR };
 
 typedef struct {
     fmi2CallbackFunctions callbacks;
     const char *name;
-    double time, rate, terminate_at, x, fixed_step;
+    double time, rate, terminate_at, x, fixed_step, discard_at;
     int mode, ticks, terminated;
 } Modes;
 
@@ -42,6 +43,7 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid, f
     m->name = strdup(name);
     m->rate = 1.0;
     m->terminate_at = 1e9;
+    m->discard_at = 1e9;
     m->mode = 1;
     return m;
 }
@@ -70,6 +72,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
     m->name = name;
     m->rate = 1.0;
     m->terminate_at = 1e9;
+    m->discard_at = 1e9;
     m->mode = 1;
     return fmi2OK;
 }
@@ -82,6 +85,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
         case VR_TERMINATE_AT: value[i] = m->terminate_at; break;
         case VR_X: value[i] = m->x; break;
         case VR_FIXED_STEP: value[i] = m->fixed_step; break;
+        case VR_DISCARD_AT: value[i] = m->discard_at; break;
         default: log_error(m, "fmi2GetReal: no such Real"); return fmi2Error;
         }
     }
@@ -121,6 +125,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
         case VR_RATE: m->rate = value[i]; break;
         case VR_TERMINATE_AT: m->terminate_at = value[i]; break;
         case VR_FIXED_STEP: m->fixed_step = value[i]; break;
+        case VR_DISCARD_AT: m->discard_at = value[i]; break;
         default: log_error(m, "fmi2SetReal: not a Real parameter"); return fmi2Error;
         }
     }
@@ -155,6 +160,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_se
         return fmi2Error;
     }
     double end = t + h;
+    if (end >= m->discard_at) return fmi2Discard;  /* the step is refused, no terminate request */
     if (end >= m->terminate_at) {
         end = m->terminate_at;
         m->terminated = 1;

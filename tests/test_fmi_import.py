@@ -180,6 +180,14 @@ def test_a_terminate_request_ends_the_run_cleanly(tmp_path, fmus):
     assert result.exit_code == 0 and "asked to end the simulation" in result.output
 
 
+def test_a_discard_without_terminate_request_is_a_failure(tmp_path, fmus):
+    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"mode": 2, "discard_at": 0.55}}},
+              "connections": []}
+    summary, frame = _run(tmp_path, fmus, wiring, {"stop": 1.0, "step": 0.125})
+    assert summary["status"] == "failed" and "fmi2DoStep returned discard at t = 0.5 s" in summary["error"]
+    assert frame["time"].iloc[-1] == 0.5 and "terminate_request" not in summary
+
+
 def test_a_terminate_request_in_a_system_keeps_the_last_common_point(tmp_path, fmus):
     """Two components: the run ends at the last communication point both reached."""
     wiring = {"components": {"a": {"fmu": "Modes.fmu", "parameters": {"mode": 2}},

@@ -2,7 +2,7 @@
 
 - `Counter` and `Sink` (pythonfmu): Integer, Boolean and String outputs, inputs and parameters.
 - `Modes` (plain C, tests/fmi2_modes.c compiled with gcc): an Enumeration input and output, an
-  Integer and a Boolean output, a terminate request and a fixed-step check; its modelDescription
+  Integer and a Boolean output, a terminate request, a discarded step and a fixed-step check; its modelDescription
   is written here with the capability flags a test asks for (one binary, several FMUs).
 """
 
@@ -171,6 +171,8 @@ MODES_XML = """<?xml version="1.0" encoding="UTF-8"?>
       <Boolean/></ScalarVariable>
     <ScalarVariable name="fixed_step" valueReference="7" causality="parameter" variability="fixed" initial="exact">
       <Real unit="s" start="0"/></ScalarVariable>
+    <ScalarVariable name="discard_at" valueReference="8" causality="parameter" variability="fixed" initial="exact">
+      <Real unit="s" start="1e9"/></ScalarVariable>
   </ModelVariables>
   <ModelStructure>
     <Outputs>
