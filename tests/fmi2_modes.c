@@ -2,7 +2,8 @@
    tests/typed_fmus.py): an Enumeration input and output, Integer and Boolean outputs, a fixed-step
    check and a terminate request.
 
-   x (m) grows at `rate` (m/s) while `mode` is Ramp (2) and holds while it is Hold (1); mode_out
+   x (m) grows at `rate` (m/s) while `mode` is Ramp (2) and holds while it is Hold (1), and at the
+   input `bias` (m/s) always (x does not depend on it at the same instant); mode_out
    repeats mode, ramping says whether it ramps, ticks counts the steps taken. When a step reaches
    `terminate_at` (s) the FMU stops there: fmi2DoStep returns fmi2Discard, fmi2Terminated is true and
    fmi2LastSuccessfulTime is terminate_at. With `fixed_step` > 0 (s) a step of another size (to the
@@ -14,12 +15,12 @@
 
 #include "fmi2Functions.h"
 
-enum { VR_MODE, VR_RATE, VR_TERMINATE_AT, VR_X, VR_MODE_OUT, VR_TICKS, VR_RAMPING, VR_FIXED_STEP, VR_DISCARD_AT, N_VR };
+enum { VR_MODE, VR_RATE, VR_TERMINATE_AT, VR_X, VR_MODE_OUT, VR_TICKS, VR_RAMPING, VR_FIXED_STEP, VR_DISCARD_AT, VR_BIAS, N_VR };
 
 typedef struct {
     fmi2CallbackFunctions callbacks;
     const char *name;
-    double time, rate, terminate_at, x, fixed_step, discard_at;
+    double time, rate, terminate_at, x, fixed_step, discard_at, bias;
     int mode, ticks, terminated;
 } Modes;
 
@@ -86,6 +87,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
         case VR_X: value[i] = m->x; break;
         case VR_FIXED_STEP: value[i] = m->fixed_step; break;
         case VR_DISCARD_AT: value[i] = m->discard_at; break;
+        case VR_BIAS: value[i] = m->bias; break;
         default: log_error(m, "fmi2GetReal: no such Real"); return fmi2Error;
         }
     }
@@ -126,6 +128,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
         case VR_TERMINATE_AT: m->terminate_at = value[i]; break;
         case VR_FIXED_STEP: m->fixed_step = value[i]; break;
         case VR_DISCARD_AT: m->discard_at = value[i]; break;
+        case VR_BIAS: m->bias = value[i]; break;
         default: log_error(m, "fmi2SetReal: not a Real parameter"); return fmi2Error;
         }
     }
@@ -166,6 +169,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_se
         m->terminated = 1;
     }
     if (m->mode == 2) m->x += m->rate * (end - t);
+    m->x += m->bias * (end - t);
     m->time = end;
     m->ticks += 1;
     return m->terminated ? fmi2Discard : fmi2OK;

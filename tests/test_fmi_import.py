@@ -73,22 +73,24 @@ TYPED_WIRING = {
     "components": {
         "c": {"fmu": "Counter.fmu", "parameters": {"first": 1, "label": "k", "increment": 2, "enabled": True}},
         "s": {"fmu": "Sink.fmu"},
-        "m": {"fmu": "Modes.fmu", "parameters": {"mode": "Ramp", "rate": 2.0}},
-        "m2": {"fmu": "Modes.fmu"},
+        "m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": "Ramp", "rate": 2.0}},
+        "m2": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0}},
     },
     "connections": ["c.count -> s.n", "c.even -> s.flag", "c.tag -> s.text", "c.count -> s.u (as Real)",
                     "m.mode_out -> m2.mode"],
 }
 
 
-@pytest.mark.parametrize("algorithm", ["gauss-seidel", "jacobi"])
-def test_every_type_is_connected_recorded_and_checked(tmp_path, fmus, algorithm):
+@pytest.mark.parametrize("algorithm, inputs", [("gauss-seidel", "held"), ("jacobi", "held"),
+                                               ("jacobi", "extrapolated")])
+def test_every_type_is_connected_recorded_and_checked(tmp_path, fmus, algorithm, inputs):
     """Integer, Boolean, String and Enumeration outputs feed inputs of their type, an Integer a
     Real input '(as Real)'; every output is recorded by default with its type (CSV exact,
-    Parquet typed) and checked by expectations of its type."""
+    Parquet typed) and checked by expectations of its type. With extrapolated inputs the
+    discrete and converted ones are still held (set with their source's value)."""
     jacobi = algorithm == "jacobi"
     total, y = (1 + 3 + 5 + 7, (1 + 3 + 5 + 7) * 0.25) if jacobi else (3 + 5 + 7 + 9, (3 + 5 + 7 + 9) * 0.25)
-    scenario = {"stop": 1.0, "step": 0.25, "algorithm": algorithm, "expectations": [
+    scenario = {"stop": 1.0, "step": {"size": 0.25, "inputs": inputs}, "algorithm": algorithm, "expectations": [
         {"signal": "s.total", "at": "end", "value": total, "source": "sum of the counts received"},
         {"signal": "c.parity", "at": "end", "value": "odd", "source": "count 9"},
         {"signal": "s.shout", "at": "end", "value": "K=7" if jacobi else "K=9", "source": "tag upper-cased"},
@@ -114,10 +116,22 @@ def test_every_type_is_connected_recorded_and_checked(tmp_path, fmus, algorithm)
     assert table.column("c.tag").to_pylist() == ["k=1", "k=3", "k=5", "k=7", "k=9"]
 
 
+def test_a_converted_input_without_feedthrough_is_set_with_extrapolated_inputs(tmp_path, fmus):
+    """Jacobi, extrapolated inputs, an Integer output feeding a Real input '(as Real)' that no
+    output depends on at the same instant (so nothing is re-read after the steps): the input is
+    still set each step, with the count it held (not extrapolated)."""
+    wiring = {"components": {"c": {"fmu": "Counter.fmu", "parameters": {"first": 1, "increment": 2, "enabled": True}},
+                             "m": {"fmu": "Modes.fmu", "parameters": {"mode": 1}}},
+              "connections": ["c.count -> m.bias (as Real)"]}
+    summary, frame = _run(tmp_path, fmus, wiring, {"stop": 1.0, "algorithm": "jacobi",
+                                                   "step": {"size": 0.25, "inputs": "extrapolated"}})
+    assert frame["m.x"].tolist() == [0.0, 0.25, 1.0, 2.25, 4.0]  # sum of 1, 3, 5, 7 m/s times 0.25 s
+
+
 def test_typed_values_in_wirings_and_set(tmp_path, fmus):
     """An Enumeration by its integer or item name, a Boolean as true/false, a String as text;
     other values are refused naming the items."""
-    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"mode": 2}},
+    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 2}},
                              "c": {"fmu": "Counter.fmu", "parameters": {"increment": 1, "enabled": False}}},
               "connections": []}
     scenario_file = _files(tmp_path, wiring, {"stop": 1.0, "step": 0.5})
@@ -164,7 +178,7 @@ def test_one_fmu_with_every_output_type_agrees_with_fmpy(tmp_path, fmus):
 def test_a_terminate_request_ends_the_run_cleanly(tmp_path, fmus):
     """fmi2Discard with fmi2Terminated: status terminated, exit 0, the rows up to the FMU's last
     successful time kept (as FMPy records them), expectations checked there."""
-    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"mode": "Ramp", "terminate_at": 0.55}}},
+    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": "Ramp", "terminate_at": 0.55}}},
               "connections": []}
     scenario = {"stop": 1.0, "step": 0.1, "expectations": [
         {"signal": "m.x", "at": "end", "value": 0.55, "tolerance": 1e-12, "source": "1 m/s for 0.55 s"}]}
@@ -181,7 +195,7 @@ def test_a_terminate_request_ends_the_run_cleanly(tmp_path, fmus):
 
 
 def test_a_discard_without_terminate_request_is_a_failure(tmp_path, fmus):
-    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"mode": 2, "discard_at": 0.55}}},
+    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 2, "discard_at": 0.55}}},
               "connections": []}
     summary, frame = _run(tmp_path, fmus, wiring, {"stop": 1.0, "step": 0.125})
     assert summary["status"] == "failed" and "fmi2DoStep returned discard at t = 0.5 s" in summary["error"]
@@ -190,8 +204,8 @@ def test_a_discard_without_terminate_request_is_a_failure(tmp_path, fmus):
 
 def test_a_terminate_request_in_a_system_keeps_the_last_common_point(tmp_path, fmus):
     """Two components: the run ends at the last communication point both reached."""
-    wiring = {"components": {"a": {"fmu": "Modes.fmu", "parameters": {"mode": 2}},
-                             "b": {"fmu": "Modes.fmu", "parameters": {"terminate_at": 0.55}}},
+    wiring = {"components": {"a": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 2}},
+                             "b": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "terminate_at": 0.55}}},
               "connections": ["a.mode_out -> b.mode"]}
     summary, frame = _run(tmp_path, fmus, wiring, {"stop": 1.0, "step": 0.1})
     assert summary["status"] == "terminated" and summary["terminate_request"]["component"] == "b"
@@ -203,8 +217,8 @@ def test_a_terminate_request_in_a_system_keeps_the_last_common_point(tmp_path, f
 def test_a_fixed_step_fmu_is_only_given_its_step(tmp_path, fmus, options):
     """ModesFixed (canHandleVariableCommunicationStepSize false) fails any other step: it runs to
     the end, or to an interpolated event, under every stepping mode; the last step is the step."""
-    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"mode": 2, "fixed_step": 0.125}},
-                             "b": {"fmu": "ModesFixed.fmu", "parameters": {"fixed_step": 0.125}}},
+    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "mode": 2, "fixed_step": 0.125}},
+                             "b": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "fixed_step": 0.125}}},
               "connections": ["a.mode_out -> b.mode"]}
     step = {"size": 0.125, **options["step"]} if "step" in options else 0.125
     summary, frame = _run(tmp_path, fmus, wiring, {"stop": 0.875, **options, "step": step})
@@ -220,7 +234,7 @@ def test_a_fixed_step_fmu_is_only_given_its_step(tmp_path, fmus, options):
 def test_a_fixed_step_fmu_gets_its_step_to_the_bit_at_the_end(tmp_path, fmus):
     """7 steps of 0.1 s to a stop of 0.7 s: the last step is 0.1, not 0.7 - 0.6000000000000001
     (which ModesFixed refuses), and the last point is the time reached, 7 x 0.1 s."""
-    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"mode": 2, "fixed_step": 0.1}}},
+    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "mode": 2, "fixed_step": 0.1}}},
               "connections": []}
     summary, frame = _run(tmp_path, fmus, wiring, {"stop": 0.7, "step": 0.1})
     assert summary["status"] == "completed", summary["error"]
@@ -229,7 +243,7 @@ def test_a_fixed_step_fmu_gets_its_step_to_the_bit_at_the_end(tmp_path, fmus):
 
 def test_a_fixed_step_fmu_is_refused_what_it_cannot_do(tmp_path, fmus):
     (tmp_path / "ModesFixed.fmu").symlink_to(fmus / "ModesFixed.fmu")
-    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"mode": 2}}}, "connections": []}
+    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "mode": 2}}}, "connections": []}
     _files(tmp_path, wiring, {"stop": 0.75, "step": 0.1})
     one_line(["validate", tmp_path / "s.json"], "stop", "a cannot vary its communication step",
              "7.5 steps", "e.g. 0.7")
@@ -240,11 +254,11 @@ def test_a_fixed_step_fmu_is_refused_what_it_cannot_do(tmp_path, fmus):
 
 def test_an_fmu_instantiable_once_per_process_is_refused_twice(tmp_path, fmus):
     (tmp_path / "ModesOnce.fmu").symlink_to(fmus / "ModesOnce.fmu")
-    one = {"components": {"a": {"fmu": "ModesOnce.fmu", "parameters": {"mode": 1}}}, "connections": []}
+    one = {"components": {"a": {"fmu": "ModesOnce.fmu", "parameters": {"bias": 0.0, "mode": 1}}}, "connections": []}
     _files(tmp_path, one, {"stop": 1.0, "step": 0.5})
     assert load_scenario(tmp_path / "s.json").system.components["a"]
-    two = {"components": {"a": {"fmu": "ModesOnce.fmu", "parameters": {"mode": 1}},
-                          "b": {"fmu": "ModesOnce.fmu", "parameters": {"mode": 1}}}, "connections": []}
+    two = {"components": {"a": {"fmu": "ModesOnce.fmu", "parameters": {"bias": 0.0, "mode": 1}},
+                          "b": {"fmu": "ModesOnce.fmu", "parameters": {"bias": 0.0, "mode": 1}}}, "connections": []}
     _files(tmp_path, two, {"stop": 1.0, "step": 0.5})
     one_line(["validate", tmp_path / "s.json"], "components.b", "a and b are two instances of Modes",
              "canBeInstantiatedOnlyOncePerProcess")
@@ -253,8 +267,8 @@ def test_an_fmu_instantiable_once_per_process_is_refused_twice(tmp_path, fmus):
 def test_times_come_from_the_default_experiment(tmp_path, fmus):
     for name in ("ModesDefault.fmu", "ModesOther.fmu", "Modes.fmu"):
         (tmp_path / name).symlink_to(fmus / name)
-    wiring = {"components": {"a": {"fmu": "ModesDefault.fmu", "parameters": {"mode": 1}},
-                             "b": {"fmu": "Modes.fmu", "parameters": {"mode": 1}}}, "connections": []}
+    wiring = {"components": {"a": {"fmu": "ModesDefault.fmu", "parameters": {"bias": 0.0, "mode": 1}},
+                             "b": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 1}}}, "connections": []}
     loaded = load_scenario(_files(tmp_path, wiring, {}))
     assert (loaded.start, loaded.stop, loaded.step) == (0.0, 1.0, 0.1)
     assert load_scenario(tmp_path / "s.json", step=0.25).step == 0.25
@@ -264,7 +278,7 @@ def test_times_come_from_the_default_experiment(tmp_path, fmus):
              "a: 1 s; b: 2 s", 'give "stop"')
     _files(tmp_path, wiring, {"stop": 1.0})
     assert load_scenario(tmp_path / "s.json").step == 0.1
-    _files(tmp_path, {"components": {"b": {"fmu": "Modes.fmu", "parameters": {"mode": 1}}}, "connections": []},
+    _files(tmp_path, {"components": {"b": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 1}}}, "connections": []},
            {"stop": 1.0})
     one_line(["validate", tmp_path / "s.json"], "step", "no FMU of the system gives a DefaultExperiment stepSize")
 
@@ -272,7 +286,7 @@ def test_times_come_from_the_default_experiment(tmp_path, fmus):
 def test_nothing_is_left_out_silently(tmp_path, fmus):
     """A unit on one side only of a connection and a run recording nothing beyond time are
     warnings in the summary and on the console."""
-    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"mode": 2}}, "s": {"fmu": "Sink.fmu",
+    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 2}}, "s": {"fmu": "Sink.fmu",
               "parameters": {"n": 0, "flag": False, "text": ""}}}, "connections": ["m.x -> s.u"]}
     summary, _ = _run(tmp_path, fmus, wiring, {"stop": 1.0, "step": 0.5})
     assert summary["warnings"] == ["connection m.x -> s.u: only the output declares a unit (m); "
@@ -292,7 +306,7 @@ def test_nothing_is_left_out_silently(tmp_path, fmus):
         z.writestr("modelDescription.xml", xml)
         for item, data in binary:
             z.writestr(item, data)
-    summary, _ = _run(tmp_path, fmus, {"components": {"q": {"fmu": "NoOutput.fmu", "parameters": {"mode": 1}}},
+    summary, _ = _run(tmp_path, fmus, {"components": {"q": {"fmu": "NoOutput.fmu", "parameters": {"bias": 0.0, "mode": 1}}},
                                        "connections": []},
                       {"stop": 1.0, "step": 0.5})
     assert summary["status"] == "completed"

@@ -173,6 +173,8 @@ MODES_XML = """<?xml version="1.0" encoding="UTF-8"?>
       <Real unit="s" start="0"/></ScalarVariable>
     <ScalarVariable name="discard_at" valueReference="8" causality="parameter" variability="fixed" initial="exact">
       <Real unit="s" start="1e9"/></ScalarVariable>
+    <ScalarVariable name="bias" valueReference="9" causality="input" variability="continuous">
+      <Real unit="m/s" start="0"/></ScalarVariable>
   </ModelVariables>
   <ModelStructure>
     <Outputs>

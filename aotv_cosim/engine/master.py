@@ -212,8 +212,9 @@ class Master:
             # Only Real inputs from Real outputs are extrapolated; converted ones are held.
             held = [i for i in sweep.delayed[name] if system.variable(".".join(sources[(name, i)])).type == "Real"]
             plan.delayed = call("set", name, held, alias=False)[0]
-            self.converted |= len(held) < len(sweep.delayed[name]) - sum(
-                c.n for c in call("set", name, sweep.delayed[name])[1:])
+            self.converted |= any(plan.inst.info.variables[i].type == "Real" and
+                                  system.variable(".".join(sources[(name, i)])).type != "Real"
+                                  for i in sweep.delayed[name])
         self.finish = calls(sweep.finish)
         self.start = calls(ordering.start_actions(system, by_comp))
         self.plans = plans
@@ -288,7 +289,10 @@ class Master:
         outcome.terminate_request = {"component": request.component, "communication_point": request.time,
                                      "last_successful_time": last}
         if len(self.instances) == 1 and last is not None and last > request.time:
-            self._read_all(last)
+            try:
+                self._read_all(last)
+            except SimulationError:  # the FMU gives no values after its request: none recorded there
+                return
             rows.add(last)
 
     def _end_of_sweep(self):
