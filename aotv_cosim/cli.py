@@ -21,6 +21,9 @@ from aotv_cosim.engine.errors import AotvError, InputError, SimulationError, Val
 from aotv_cosim.engine.paths import writable_file, writable_folder
 
 DEFAULT_OUT = Path("results")
+ENDED_CLEANLY = ("completed", "terminated")
+"""Run statuses that are no failure: the stop time or a stop condition reached, or an FMU's
+request to terminate."""
 
 
 class _Context:
@@ -50,10 +53,11 @@ def _guard(function):
 
 
 def _exit_status(summary):
-    """0 if completed, 128 + signal number if interrupted (shell convention), else 1."""
+    """0 if completed or ended at an FMU's terminate request, 128 + signal number if interrupted
+    (shell convention), else 1."""
     if summary["status"] == "interrupted":
         return 128 + (interrupts.received() or signal.SIGINT)
-    return 0 if summary["status"] == "completed" else 1
+    return 0 if summary["status"] in ENDED_CLEANLY else 1
 
 
 @click.group(cls=OneLineGroup, context_settings={"help_option_names": ["-h", "--help"]})
@@ -112,7 +116,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         console.print_summary(summary, out_dir)
-        if summary["status"] != "completed":
+        if summary["status"] not in ENDED_CLEANLY:
             sys.exit(_exit_status(summary))
         if not all(r["passed"] for r in summary["expectations"]):
             click.echo("error: expectations failed (see above)", err=True)
@@ -147,7 +151,7 @@ def check(paths, out, start, stop):
         failed, t0 = 0, time.perf_counter()
         for k, scenario in enumerate(candidates, 1):
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
-            ok = summary["status"] == "completed" and all(r["passed"] for r in summary["expectations"])
+            ok = summary["status"] in ENDED_CLEANLY and all(r["passed"] for r in summary["expectations"])
             failed += not ok
             click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
                        f"{summary['wall_time_s']:.2f} s)")

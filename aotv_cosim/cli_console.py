@@ -25,7 +25,7 @@ def finish_bar(bar, summary, start):
     """Put the bar at 100 % of the simulated span when a stop condition ended the run, and keep a
     bar that says why a run stopped early (stop condition, failure, interruption) when it is
     closed. A bar never shown (a run shorter than its delay) stays hidden."""
-    if summary["status"] == "completed" and summary["end_time"] is not None:
+    if summary["status"] in ("completed", "terminated") and summary["end_time"] is not None:
         bar.total = bar.n = round(summary["end_time"] - start, 6)
     if summary["stop_reason"] != "stop time reached":
         bar.set_postfix_str(summary["stop_reason"], refresh=False)
@@ -45,13 +45,31 @@ def print_summary(summary, out_dir):
         uwidth = max([len("unit")] + [len(units.get(n, "")) for n in names])
         click.echo(f"  {'signal':<{width}}  {'unit':<{uwidth}}  {'final':>14}  {'min':>14}  {'max':>14}")
         for n in names:
-            lo = summary["min"].get(n, {}).get("value", float("nan"))
-            hi = summary["max"].get(n, {}).get("value", float("nan"))
-            final = summary["final"][n]
-            final = f"{final:14.7g}" if isinstance(final, float) else f"{final:>14}"
-            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {final}  {lo:14.7g}  {hi:14.7g}")
+            none = None if summary.get("types", {}).get(n) == "String" else float("nan")  # no extrema
+            lo = _cell(summary["min"].get(n, {}).get("value", none))
+            hi = _cell(summary["max"].get(n, {}).get("value", none))
+            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {_cell(summary['final'][n])}  {lo}  {hi}")
     print_expectations(summary["expectations"])
     click.echo(f"  results in {out_dir}")
+
+
+def _cell(value) -> str:
+    """A summary value in a 14-character column: a Real with 7 significant digits, an Integer
+    exactly, a Boolean as true/false, a text as it is."""
+    if isinstance(value, bool):
+        return f"{str(value).lower():>14}"
+    if isinstance(value, float):
+        return f"{value:14.7g}"
+    if isinstance(value, int):
+        return f"{value:>14d}"
+    return f"{value:>14}" if value is not None else f"{'':>14}"
+
+
+def _shown(value) -> str:
+    """An expectation's value on the console: numbers with 7 significant digits."""
+    if isinstance(value, bool):
+        return str(value).lower()
+    return f"{value:.7g}" if isinstance(value, (int, float)) else repr(value)
 
 
 def print_failure(summary):
@@ -63,12 +81,17 @@ def print_failure(summary):
             click.echo(f"  FMU log: {log[-1]}")
     if summary["status"] == "interrupted":
         click.echo(f"  interrupted at t = {summary['end_time']} s; partial results kept")
+    request = summary.get("terminate_request")
+    if request:
+        click.echo(f"  {request['component']} asked to end the simulation (fmi2Terminated); rows up to "
+                   f"t = {summary['end_time']} s kept")
     for warning in summary.get("warnings", []):
         click.echo(f"warning: {warning}", err=True)
 
 
 def print_expectations(results):
     for r in results:
-        measured = "not measured" if r["measured"] is None else f"{r['measured']:.7g}"
+        measured = "not measured" if r["measured"] is None else _shown(r["measured"])
+        within = f" +- {r['allowed_error']:.3g}" if r["allowed_error"] is not None else ""
         click.echo(f"  [{'PASS' if r['passed'] else 'FAIL'}] {r['signal']} at {r['at']}: "
-                   f"{measured} vs {r['expected']:.7g} +- {r['allowed_error']:.3g}  ({r['source']})")
+                   f"{measured} vs {_shown(r['expected'])}{within}  ({r['source']})")

@@ -90,36 +90,41 @@ def _crafted_fmu(path, variables):
     return path
 
 
-def test_integer_and_boolean_ports_are_refused_at_validation(tmp_path):
-    """The master exchanges and records Real values: an Integer connection, record or stop
-    condition is refused when loaded, and the default record holds the Real outputs only."""
+def test_typed_ports_connect_by_equal_type_or_an_explicit_conversion(tmp_path):
+    """Integer and Boolean ports connect to ports of their type; an Integer output feeds a Real
+    input only when the wiring says '(as Real)'; the default record holds every output; a stop
+    condition crossing a threshold needs a Real or Integer output."""
     _crafted_fmu(tmp_path / "c.fmu", [("count", "Integer", "output"), ("flag", "Boolean", "output"),
                                       ("n_in", "Integer", "input"), ("y", "Real", "output"),
-                                      ("mode", "Integer", "parameter")])
-    wiring = {"components": {"a": {"fmu": "c.fmu", "parameters": {"n_in": 1, "mode": 2}},
+                                      ("u", "Real", "input"), ("mode", "Integer", "parameter")])
+    wiring = {"components": {"a": {"fmu": "c.fmu", "parameters": {"n_in": 1, "mode": 2, "u": 0.0}},
                              "b": {"fmu": "c.fmu", "parameters": {"mode": 3}}},
-              "connections": ["a.count -> b.n_in"]}
+              "connections": ["a.count -> b.n_in", "a.count -> b.u"]}
     write_json(tmp_path / "w.json", wiring)
-    one_line(["validate", tmp_path / "w.json"], "a.count -> b.n_in", "Integer connections are not supported")
-    wiring["connections"] = []
-    wiring["components"]["b"]["parameters"]["n_in"] = 0
+    one_line(["validate", tmp_path / "w.json"], "a.count -> b.u", "type mismatch: Integer -> Real", "(as Real)")
+    wiring["connections"][1] = "a.count -> b.u (as Real)"
     write_json(tmp_path / "w.json", wiring)
     scenario = {"system": "w.json", "stop": 1, "step": 0.5}
     write_json(tmp_path / "s.json", scenario)
     loaded = load_scenario(tmp_path / "s.json")
-    assert loaded.record == ["a.y", "b.y"]
-    assert loaded.system.components["a"].parameters == {"n_in": 1, "mode": 2}
-    for key, value, entry in [("record", ["a.flag"], "record[0]"),
-                              ("stop_conditions", [{"signal": "b.count", "crosses": 1}], "stop_conditions[0].signal")]:
-        write_json(tmp_path / "s.json", {**scenario, key: value})
-        one_line(["validate", tmp_path / "s.json"], entry, "Real outputs only")
+    assert loaded.record == ["a.count", "a.flag", "a.y", "b.count", "b.flag", "b.y"]
+    assert loaded.system.components["a"].parameters == {"n_in": 1, "mode": 2, "u": 0.0}
+    assert str(loaded.system.connections[1]) == "a.count -> b.u (as Real)"
+    wiring["connections"][1] = "a.flag -> b.n_in"
+    write_json(tmp_path / "w.json", wiring)
+    one_line(["validate", tmp_path / "w.json"], "a.flag -> b.n_in", "type mismatch: Boolean -> Integer")
+    wiring["connections"] = ["a.count -> b.n_in", "a.count -> b.u (as Real)"]
+    write_json(tmp_path / "w.json", wiring)
+    write_json(tmp_path / "s.json", {**scenario, "stop_conditions": [{"signal": "b.flag", "crosses": 1}]})
+    one_line(["validate", tmp_path / "s.json"], "stop_conditions[0].signal", "b.flag is a Boolean",
+             "Real or Integer")
 
 
 def test_a_comma_in_a_recorded_name_is_refused(tmp_path):
     _crafted_fmu(tmp_path / "c.fmu", [("a,b", "Real", "output"), ("y", "Real", "output")])
     write_json(tmp_path / "w.json", {"components": {"c": {"fmu": "c.fmu"}}, "connections": []})
     write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1, "step": 0.5})
-    one_line(["validate", tmp_path / "s.json"], "record[0] (default: every Real output)", "comma")
+    one_line(["validate", tmp_path / "s.json"], "record[0] (default: every output)", "comma")
     write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1, "step": 0.5, "record": ["c.y"]})
     assert load_scenario(tmp_path / "s.json").record == ["c.y"]
 

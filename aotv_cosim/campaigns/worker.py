@@ -12,7 +12,7 @@ import numpy as np
 
 from aotv_cosim.campaigns import outcome_rows
 from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.runner import recorded_columns
+from aotv_cosim.engine.runner import numeric_columns
 from aotv_cosim.engine.scenario import load_scenario
 
 _LOCAL = threading.local()
@@ -20,7 +20,7 @@ _LOCAL = threading.local()
 
 def columns(scenario) -> list:
     """Row columns: run, status, error, dispersed values, end, final/min/max and exit values."""
-    signals = recorded_columns(scenario)
+    signals = numeric_columns(scenario)
     names = ["run", "status", "error"] + [f"dispersed.{d.signal}" for d in scenario.dispersions]
     names += ["end_time", "steps"] + [f"final.{s}" for s in signals]
     names += [f"min.{s}" for s in signals] + [f"max.{s}" for s in signals]
@@ -56,7 +56,7 @@ class Runner:
     def __init__(self, scenario_path, sets=None, times=None):
         start, stop = times or (None, None)
         self.scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
-        self.signals = recorded_columns(self.scenario)
+        self.signals = numeric_columns(self.scenario)
         self.columns = columns(self.scenario)
         self.pool = {}
 

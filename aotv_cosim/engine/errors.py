@@ -54,3 +54,14 @@ def raise_if_any(problems):
         raise problems[0]
     if problems:
         raise ValidationFailed(problems)
+
+
+class TerminateRequest(Exception):
+    """An FMU asked to end the simulation: fmi2DoStep returned fmi2Discard and
+    fmi2GetBooleanStatus(fmi2Terminated) is true. Not a failure: the run ends cleanly at the last
+    communication point every component reached (`time`, s); `last_successful_time` (s) is the
+    FMU's fmi2LastSuccessfulTime, None when it does not give one."""
+
+    def __init__(self, component: str, time: float, last_successful_time):
+        super().__init__(f"{component} asked to terminate")
+        self.component, self.time, self.last_successful_time = component, time, last_successful_time

@@ -1,10 +1,15 @@
 """The master's FMI calls, prepared once per run: value-reference and value arrays over one shared
 ctypes buffer (`Call`, `Plan`), bound to the instances' C entry points (`bind`) and made in order
 (`run_bound`). A value array whose buffer positions are consecutive is a view of the buffer, so
-the loop passes inputs and reads outputs without a copy per step.
+the loop passes inputs and reads outputs without a copy per step. Integer, Boolean, Enumeration
+and String values go through a `TypedCall`: one fmi2Get/SetInteger, Boolean or String call per
+component and type, converting between its C values and the buffer's float64 slots
+(`variable_types`).
 """
 
 import ctypes
+
+from aotv_cosim.engine.variable_types import C_TYPE, FMI_TYPE
 
 
 class Call:
@@ -29,6 +34,57 @@ class Call:
         else:
             self.vals = (ctypes.c_double * max(self.n, 1))()
             self.pairs = tuple(enumerate(self.positions))
+
+
+class TypedCall:
+    """One fmi2Get/Set of Integer (an Enumeration too), Boolean or String values of one component.
+
+    Bound like a `Call` (`bind`), with `function` in place of the C entry point: it makes the C
+    call and converts the values between their C type and the buffer's float64 slots (a String
+    through the run's `Strings` table), so `pairs` is empty for `run_bound`."""
+
+    def __init__(self, inst, kind, fmi_type, names, positions, values, strings):
+        ranked = sorted(zip(positions, names))
+        self.positions = [s for s, _ in ranked]
+        self.n = len(ranked)
+        self.size = ctypes.c_size_t(self.n)
+        self.vrs = (ctypes.c_uint * self.n)(*[inst.info.variables[name].vr for _, name in ranked])
+        self.vals = (C_TYPE[fmi_type] * max(self.n, 1))()
+        self.pairs = ()
+        self.what = f"fmi2{kind}{fmi_type}"
+        raw = inst.raw[(kind, fmi_type)]
+        slots = tuple(enumerate(self.positions))
+        if kind == "Get":
+            convert = strings.number if fmi_type == "String" else None
+
+            def function(c, vrs, n, vals):
+                status = raw(c, vrs, n, vals)
+                for i, j in slots:
+                    values[j] = convert(vals[i].decode("utf-8", "replace")) if convert else vals[i]
+                return status
+        else:
+            def function(c, vrs, n, vals):
+                for i, j in slots:
+                    vals[i] = strings.text(values[j]).encode("utf-8") if fmi_type == "String" \
+                        else int(values[j])
+                return raw(c, vrs, n, vals)
+        self.function = function
+
+
+def calls_by_type(inst, kind, names, positions, values, strings, alias=True):
+    """The calls that get or set `names` of `inst` (values at `positions` of the buffer): a
+    `Call` for the Real ones, then a `TypedCall` per other FMI type; the empty Real call is kept
+    (the loop's fresh and delayed sets are Real calls, possibly of nothing)."""
+    variables = inst.info.variables
+    groups = {}
+    for name, pos in zip(names, positions):
+        groups.setdefault(FMI_TYPE[variables[name].type], []).append((name, pos))
+    real = groups.pop("Real", [])
+    made = [Call(inst, [n for n, _ in real], [p for _, p in real], values, alias)]
+    for fmi_type, group in groups.items():
+        made.append(TypedCall(inst, kind.capitalize(), fmi_type, [n for n, _ in group],
+                              [p for _, p in group], values, strings))
+    return made
 
 
 class Plan:
@@ -56,6 +112,8 @@ def bind(actions):
     after the plans were built (bench/run.py times every call) is the one called."""
     return [(kind == "get", inst, inst.component, inst.raw_get_real if kind == "get" else inst.raw_set_real,
              call.vrs, call.size, call.vals, call.pairs, "fmi2GetReal" if kind == "get" else "fmi2SetReal")
+            if isinstance(call, Call) else
+            (kind == "get", inst, inst.component, call.function, call.vrs, call.size, call.vals, (), call.what)
             for kind, inst, call in actions]
 
 

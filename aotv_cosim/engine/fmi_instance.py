@@ -10,6 +10,7 @@ import collections
 import ctypes
 import hashlib
 import itertools
+import math
 import sys
 import weakref
 from pathlib import Path
@@ -20,7 +21,11 @@ from fmpy import calloc, free
 
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.engine.archives import extract_to
-from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.engine.errors import SimulationError, TerminateRequest
+from aotv_cosim.engine.variable_types import FMI_TYPE
+
+FMI2_LAST_SUCCESSFUL_TIME, FMI2_TERMINATED = 2, 3
+"""fmi2StatusKind values asked after a discarded step (fmi2FunctionTypes.h)."""
 
 STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal", 5: "pending"}
 
@@ -124,6 +129,10 @@ class FmuInstance:
             for name in ("fmi2DoStep", "fmi2GetReal", "fmi2SetReal"))
         self._get_state, self._set_state, self._free_state = (
             functions[name] for name in ("fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate"))
+        self.raw = {(kind, type_): functions[f"fmi2{kind}{type_}"]
+                    for kind in ("Get", "Set") for type_ in ("Integer", "Boolean", "String")}
+        """("Get"/"Set", FMI type) -> the C entry point of the non-Real types (`fmi_calls.TypedCall`)."""
+        self.raw.update({("Get", "Real"): self.raw_get_real, ("Set", "Real"): self.raw_set_real})
         self._call("fmi2SetupExperiment",
                    lambda: self.slave.setupExperiment(startTime=start_time, stopTime=stop_time))
 
@@ -178,13 +187,51 @@ class FmuInstance:
                    lambda: self.slave.setupExperiment(startTime=start_time, stopTime=stop_time))
 
     def set_values(self, values: dict) -> None:
-        """Set parameter or start values by name (before or during initialization)."""
+        """Set parameter, start or input values by name, each of its variable's type (an
+        Enumeration as its integer, a String as text)."""
         variables = self.info.variables
         for name, value in values.items():
             var = variables[name]
-            setter = {"Real": self.slave.setReal, "Integer": self.slave.setInteger,
-                      "Boolean": self.slave.setBoolean, "String": self.slave.setString}[var.type]
-            self._call(f"set {name}", lambda: setter([var.vr], [value]))
+            kind = FMI_TYPE[var.type]
+            setter = getattr(self.slave, f"set{kind}")  # FMPy encodes a String's text
+            self._call(f"fmi2Set{kind} {name}", lambda: setter([var.vr], [value]))
+
+    def get_value(self, name: str):
+        """The current value of variable `name`, as its type's Python value (a String as text)."""
+        var = self.info.variables[name]
+        kind = FMI_TYPE[var.type]
+        values = []
+        self._call(f"fmi2Get{kind} {name}",
+                   lambda: values.extend(getattr(self.slave, f"get{kind}")([var.vr])))
+        value = values[0]
+        return value.decode("utf-8", "replace") if isinstance(value, bytes) else value
+
+    def refused_step(self, time: float, status: int) -> Exception:
+        """What a fmi2DoStep from `time` that returned `status` (> warning) means: a
+        TerminateRequest when the FMU discarded the step to end the simulation, else the failure.
+        A discard whose last log message is an error is a failure even with fmi2Terminated true:
+        pythonfmu answers true after any do_step that returned False, a failed step among them."""
+        failed_loudly = bool(self.messages) and self.messages[-1][0] in ("error", "fatal")
+        if status == 2 and not failed_loudly:
+            last = self.terminate_request()
+            if last is not None:
+                return TerminateRequest(self.name, time, None if math.isnan(last) else last)
+        return self.failure("fmi2DoStep", time, status)
+
+    def terminate_request(self):
+        """After fmi2DoStep returned fmi2Discard: None if the FMU does not ask to end the
+        simulation (fmi2GetBooleanStatus(fmi2Terminated) false or unanswered), else the last time
+        it reached (fmi2GetRealStatus(fmi2LastSuccessfulTime), s; None if it does not say)."""
+        functions = self.slave._functions
+        asked = ctypes.c_int(0)
+        if functions["fmi2GetBooleanStatus"](self.component, ctypes.c_int(FMI2_TERMINATED),
+                                             ctypes.byref(asked)) != 0 or not asked.value:
+            return None
+        last = ctypes.c_double(math.nan)
+        if functions["fmi2GetRealStatus"](self.component, ctypes.c_int(FMI2_LAST_SUCCESSFUL_TIME),
+                                          ctypes.byref(last)) != 0 or not math.isfinite(last.value):
+            return math.nan
+        return last.value
 
     def enter_initialization(self):
         self._call("fmi2EnterInitializationMode", self.slave.enterInitializationMode)

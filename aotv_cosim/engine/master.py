@@ -42,13 +42,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from aotv_cosim.engine import adaptive, interrupts, ordering
-from aotv_cosim.engine.errors import InputError, SimulationError
+from aotv_cosim.engine.capabilities import fixed_step_components
+from aotv_cosim.engine.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.interrupts import Interrupted
-from aotv_cosim.engine.fmi_calls import Call, Plan, bind, run_bound
+from aotv_cosim.engine.fmi_calls import Plan, bind, calls_by_type, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance
 from aotv_cosim.engine.rows import CHUNK, Rows
 from aotv_cosim.engine.ranges import RangeWatch, range_watches
 from aotv_cosim.engine.scenario import crossing
+from aotv_cosim.engine.variable_types import Strings
 
 @dataclass
 class Outcome:
@@ -64,6 +66,9 @@ class Outcome:
     init_time: float = 0.0
     loop_time: float = 0.0
     fmus: dict = field(default_factory=dict)
+    terminate_request: dict = None
+    """An FMU that asked to end the run: its component, the last communication point every
+    component reached and the FMU's fmi2LastSuccessfulTime (s)."""
     step_control: dict = None
     """Error-controlled runs (`engine.adaptive`): steps accepted, rejected, kept at the min
     bound, sweeps made, smallest and largest step (s)."""
@@ -93,6 +98,11 @@ class Master:
         self.pool = pool
         self.signals = signals_to_read(scenario)
         self.instances = {}
+        self.converted = False
+        """True when a delayed Real input takes a converted Integer or Boolean output (held, not
+        extrapolated: `_end_of_sweep`)."""
+        self.strings = Strings()
+        """The String values of the run, numbered (`variable_types`): the buffer holds their numbers."""
 
     # ---- set-up -----------------------------------------------------------------------------
     def _instantiate(self, outcome):
@@ -128,8 +138,8 @@ class Master:
                 deps = system.components[conn.source].fmu.initial_feedthrough.get(conn.output, set())
                 if all((conn.source, d) in done_inputs or (conn.source, d) not in connected_inputs
                        for d in deps):
-                    value = self.instances[conn.source].get_real([conn.output])
-                    self.instances[conn.target].set_real([conn.input], value)
+                    value = self.instances[conn.source].get_value(conn.output)
+                    self.instances[conn.target].set_values({conn.input: value})
                     done_inputs.add((conn.target, conn.input))
                     pending.remove(conn)
                     progressed = True
@@ -152,40 +162,59 @@ class Master:
                    for name in system.components}
         sweep = ordering.sweep(system, by_comp, jacobi=s.algorithm == "jacobi")
         order = sweep.order
+        real = {name: [o for o in by_comp[name] if system.components[name].fmu.variables[o].type == "Real"]
+                for name in order}
         # Outputs re-read after the step go last, so that their re-reads are views of the buffer.
         reread = {(comp, o) for _, comp, names in self._sweep_actions(sweep) if _ == "get"
                   for o in names}
         stale = {}
         for name in order:
-            tail = [o for o in by_comp[name] if (name, o) in reread]
-            by_comp[name] = [o for o in by_comp[name] if o not in tail] + tail
+            tail = [o for o in real[name] if (name, o) in reread]
+            real[name] = [o for o in real[name] if o not in tail] + tail
             # Gauss-Seidel sets no input from them before their re-read; Jacobi sets every input
             # from the values read right after the steps, so it reads them all there.
             stale[name] = 0 if s.algorithm == "jacobi" else len(tail)
-        total = sum(len(v) for v in by_comp.values())
+        # Integer, Boolean, Enumeration and String outputs after every Real one (`variable_types`).
+        typed = {name: [o for o in by_comp[name] if o not in real[name]] for name in order}
+        n_real = sum(len(v) for v in real.values())
+        total = n_real + sum(len(v) for v in typed.values())
         self.values = (ctypes.c_double * max(total, 1))()
         self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
         self.index, plans, offset = {}, [], 0
         for name in order:
-            plan = Plan(self.instances[name], by_comp[name], self.values, offset, stale[name])
-            for k, out in enumerate(by_comp[name]):
+            plan = Plan(self.instances[name], real[name], self.values, offset, stale[name])
+            for k, out in enumerate(real[name]):
                 self.index[f"{name}.{out}"] = offset + k
             offset += plan.n_out
             plans.append(plan)
+        for name in order:
+            for out in typed[name]:
+                self.index[f"{name}.{out}"] = offset
+                offset += 1
+        self.types = {sig: system.variable(sig).type for sig in self.index}
 
         def call(kind, name, names, alias=True):
             where = [self.index[".".join(sources[(name, v)]) if kind == "set" else f"{name}.{v}"]
                      for v in names]
-            return Call(self.instances[name], names, where, self.values, alias)
+            return calls_by_type(self.instances[name], kind, names, where, self.values, self.strings,
+                                 alias)
 
         def calls(actions):
-            return [(kind, self.instances[name], call(kind, name, names)) for kind, name, names in actions]
+            return [(kind, self.instances[name], made) for kind, name, names in actions
+                    for made in call(kind, name, names) if made.n]
 
         for plan in plans:
             name = plan.inst.name
-            plan.fresh = call("set", name, sweep.fresh[name])
-            plan.before = calls(sweep.before[name])
-            plan.delayed = call("set", name, sweep.delayed[name], alias=False)
+            fresh, *typed_fresh = call("set", name, sweep.fresh[name])
+            plan.fresh = fresh
+            plan.before = calls(sweep.before[name]) + [("set", plan.inst, c) for c in typed_fresh]
+            plan.after = [("get", plan.inst, c) for c in call("get", name, typed[name])[1:]]
+            # Only Real inputs from Real outputs are extrapolated; converted ones are held.
+            held = [i for i in sweep.delayed[name] if system.variable(".".join(sources[(name, i)])).type == "Real"]
+            plan.delayed = call("set", name, held, alias=False)[0]
+            self.converted |= any(plan.inst.info.variables[i].type == "Real" and
+                                  system.variable(".".join(sources[(name, i)])).type != "Real"
+                                  for i in sweep.delayed[name])
         self.finish = calls(sweep.finish)
         self.start = calls(ordering.start_actions(system, by_comp))
         self.plans = plans
@@ -200,6 +229,8 @@ class Master:
         for p in self.plans:
             if p.n_out and p.inst.raw_get_real(p.inst.component, p.out_vrs, p.out_size, p.out_vals) > 1:
                 raise p.inst.failure("fmi2GetReal", t)
+            if p.after:
+                run_bound(bind(p.after), self.values, t)
 
     def run(self) -> Outcome:
         """Run the scenario to its stop time or stop condition; never raises for a failed run."""
@@ -224,6 +255,8 @@ class Master:
             outcome.error_detail = {"component": getattr(exc, "component", None),
                                     "variable": getattr(exc, "variable", None),
                                     "time": getattr(exc, "time", None), "message": exc.cause}
+        except TerminateRequest as request:
+            self._terminated(request, rows, outcome)
         except (KeyboardInterrupt, Interrupted):
             outcome.status = "interrupted"
             outcome.stop_reason = f"interrupted by {interrupts.name() or 'SIGINT'}"
@@ -242,6 +275,25 @@ class Master:
                         del self.pool[name]
             outcome.wall_time = clock.perf_counter() - wall0
         return outcome
+
+    def _terminated(self, request, rows, outcome):
+        """End the run cleanly at an FMU's terminate request. The rows up to the last
+        communication point every component reached are kept; an FMU run alone also gets a last
+        row at its fmi2LastSuccessfulTime, its outputs read there (as fmpy.simulate_fmu does).
+        In a system the other components have already stepped past that time, or not yet, so no
+        consistent row exists there."""
+        last = request.last_successful_time
+        outcome.status = "terminated"
+        when = last if last is not None else request.time
+        outcome.stop_reason = f"{request.component} asked to terminate at t = {when:.6g} s"
+        outcome.terminate_request = {"component": request.component, "communication_point": request.time,
+                                     "last_successful_time": last}
+        if len(self.instances) == 1 and last is not None and last > request.time:
+            try:
+                self._read_all(last)
+            except SimulationError:  # the FMU gives no values after its request: none recorded there
+                return
+            rows.add(last)
 
     def _end_of_sweep(self):
         """(finish, extrapolate): what a sweep does after the last component has stepped.
@@ -272,7 +324,8 @@ class Master:
                     vals[i] = now + c_slope * (now - last[j])
                 if set_(c, vrs, size, vals) > 1:
                     raise inst.failure("fmi2SetReal", t)
-        return (finish if any(action[0] for action in finish) else []), extrapolate
+        exact = any(is_get or what != "fmi2SetReal" for is_get, *_, what in finish) or self.converted
+        return (finish if exact else []), extrapolate
 
     def sweeper(self, finish):
         """advance(t, step, t_new): one communication step of every component from t, values
@@ -282,7 +335,7 @@ class Master:
         steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
                      p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_fresh_out, p.fresh_out_size,
                      p.fresh.vrs, p.fresh.vals, p.fresh.pairs, p.fresh.n, p.fresh.size,
-                     bind(p.before)) for p in self.plans]
+                     bind(p.before), bind(p.after)) for p in self.plans]
         now, length, new_step = ctypes.c_double(), ctypes.c_double(), ctypes.c_int(1)
 
         def jacobi(t, step, t_new):
@@ -290,16 +343,18 @@ class Master:
             for inst, c, do_step, get, set_, ovrs, ovals, n_out, osize, *_ in steppers:
                 status = do_step(c, now, length, new_step)
                 if status > 1:
-                    raise inst.failure("fmi2DoStep", t, status)
-            for inst, c, _do, get, set_, ovrs, ovals, n_out, osize, *_ in steppers:
+                    raise inst.refused_step(t, status)
+            for inst, c, _do, get, set_, ovrs, ovals, n_out, osize, *_, after in steppers:
                 if n_out and get(c, ovrs, osize, ovals) > 1:
                     raise inst.failure("fmi2GetReal", t_new)
+                if after:
+                    run_bound(after, values, t_new)
             run_bound(finish, values, t_new)
 
         def gauss_seidel(t, step, t_new):
             now.value, length.value = t, step
             for (inst, c, do_step, get, set_, ovrs, ovals, n_out, osize, fvrs, fvals, pairs, nf,
-                 fsize, before) in steppers:
+                 fsize, before, after) in steppers:
                 if before:
                     run_bound(before, values, t_new)
                 if nf:
@@ -309,9 +364,11 @@ class Master:
                         raise inst.failure("fmi2SetReal", t)
                 status = do_step(c, now, length, new_step)
                 if status > 1:
-                    raise inst.failure("fmi2DoStep", t, status)
+                    raise inst.refused_step(t, status)
                 if n_out and get(c, ovrs, osize, ovals) > 1:
                     raise inst.failure("fmi2GetReal", t_new)
+                if after:
+                    run_bound(after, values, t_new)
             run_bound(finish, values, t_new)
         return jacobi if self.scenario.algorithm == "jacobi" else gauss_seidel
 
@@ -325,7 +382,8 @@ class Master:
         """End the run at a stop condition's crossing `event` (`Rows.event`): say why, and mark the
         run impact or out_of_range when the condition is a RangeWatch."""
         outcome.event = event
-        outcome.stop_reason = (f"{cond.signal} crossed {cond.threshold:g} "
+        outcome.stop_reason = (f"{cond.signal} changed at t = {event['time']:.6g} s" if cond.threshold is None
+                               else f"{cond.signal} crossed {cond.threshold:g} "
                                f"{'up' if up else 'down'} at t = {event['time']:.6g} s")
         if isinstance(cond, RangeWatch):  # an output left its declared range
             outcome.status = cond.status
@@ -338,6 +396,10 @@ class Master:
         values, array = self.values, self.array
         start, h, stop = s.start, s.step, s.stop
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
+        # an FMU that cannot vary its step gets h for the last one too (stop is start + n h,
+        # `capabilities.check_capabilities`), not stop - t, which rounding makes differ from h;
+        # the last point recorded is then the time it reached, start + n h
+        fixed_only = bool(fixed_step_components(s.system))
         conditions = self.watches()
         watched = [idx for idx, *_ in conditions]
         before_values = [values[idx] for idx in watched]  # the watched signals at t
@@ -358,8 +420,8 @@ class Master:
                     raise Interrupted(interrupts.name())
                 t = start + k * h
                 last = k == n_steps - 1
-                step = stop - t if last else h
-                t_new = stop if last else start + (k + 1) * h
+                step = (h if fixed_only else stop - t) if last else h
+                t_new = stop if last and not fixed_only else start + (k + 1) * h
                 advance(t, step, t_new)
                 if extrapolate is not None:
                     extrapolate(t_new, step, h if k < n_steps - 2 else stop - t_new, last_values)
@@ -369,7 +431,9 @@ class Master:
                     now = values[idx]
                     up = crossing(before, now, threshold, direction)
                     if up is not None:
-                        fraction = (threshold - before) / (now - before)
+                        # a discrete signal's value changes at a communication point: no interpolation
+                        fraction = None if threshold is None or self.types[cond.signal] != "Real" \
+                            else (threshold - before) / (now - before)
                         previous = np.frombuffer(last_row, dtype=np.float64)[:array.size]
                         self.stop_at(rows, outcome, cond, up, rows.event(cond, t, t_new, fraction, previous))
                         rows.add(t_new)

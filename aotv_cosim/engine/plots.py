@@ -17,15 +17,18 @@ def _unit(system, signal):
 
 
 def overview(out_dir, system, columns, times, rows, title):
-    """overview.png (and overview-2.png, ...): each recorded signal against time."""
+    """overview.png (and overview-2.png, ...): each recorded signal against time; an Integer,
+    Boolean or Enumeration one as steps (it changes at communication points), no String one."""
     files = []
-    for page, first in enumerate(range(0, len(columns), PANELS)):
-        names = columns[first:first + PANELS]
+    drawn = [c for c in columns if system.variable(c).type != "String"]
+    for page, first in enumerate(range(0, len(drawn), PANELS)):
+        names = drawn[first:first + PANELS]
         ncols = 3 if len(names) > 4 else 2 if len(names) > 1 else 1
         nrows = math.ceil(len(names) / ncols)
         fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 2.6 * nrows), squeeze=False)
         for ax, name in zip(axes.flat, names):
-            ax.plot(times, rows[:, columns.index(name)], lw=1.2)
+            ax.plot(times, rows[:, columns.index(name)], lw=1.2,
+                    drawstyle="default" if system.variable(name).type == "Real" else "steps-post")
             ax.set_title(name + _unit(system, name), fontsize=9)
             ax.set_xlabel("time [s]", fontsize=8)
             ax.tick_params(labelsize=7)

@@ -33,7 +33,7 @@ def _interval(low, high):
 def check_range(fmu, name, value, *, file, entry):
     """Problems with giving `value` to variable `name` of `fmu`: outside its declared range."""
     bounds = declared_range(fmu, name)
-    if bounds is None or bounds[0] <= value <= bounds[1]:
+    if bounds is None or isinstance(value, (str, bool)) or bounds[0] <= value <= bounds[1]:
         return []
     unit = fmu.variables[name].unit
     return [InputError(f"{name} = {value!r} is outside its physical range {_interval(*bounds)}"

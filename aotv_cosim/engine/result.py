@@ -11,18 +11,23 @@ import pandas as pd
 class Result:
     """One co-simulation run.
 
-    timeseries: DataFrame indexed by time (s), one column per recorded signal 'comp.var';
+    timeseries: DataFrame indexed by time (s), one column per recorded signal 'comp.var' (float64;
+    int32 for an Integer or Enumeration, bool for a Boolean, text for a String);
     units: {'time': 's', signal: unit}; summary: the summary dict (as in summary.json);
-    status: 'completed', 'failed' or 'interrupted'; event: the located stop-condition crossing
+    status: 'completed', 'terminated' (an FMU asked to end the run), 'failed' or 'interrupted'; event: the located stop-condition crossing
     ({'signal', 'threshold', 'time', 'values'}) or None; expectations: the checked numbers
     (measured, expected, allowed error, passed, source); out: the output folder or None.
     """
 
-    def __init__(self, summary, columns, times, rows, out=None):
+    def __init__(self, summary, columns, times, rows, decoder=None, out=None):
         self.summary = summary
         self.units = dict(summary["units"])
         self.out = out
         frame = pd.DataFrame(rows, index=pd.Index(times, name="time"), columns=list(columns))
+        if decoder is not None:  # Integer, Boolean, Enumeration and String columns of their type
+            for name in decoder.types:
+                if name in frame:
+                    frame[name] = decoder.column(name, frame[name].to_numpy())
         frame.attrs["units"] = self.units
         self.timeseries = frame
 
@@ -40,8 +45,9 @@ class Result:
 
     @property
     def passed(self) -> bool:
-        """True if the run completed and every expectation it checked passed."""
-        return self.status == "completed" and all(e["passed"] for e in self.expectations)
+        """True if the run completed (or ended at an FMU's terminate request) and every
+        expectation it checked passed."""
+        return self.status in ("completed", "terminated") and all(e["passed"] for e in self.expectations)
 
     def __repr__(self):
         n = len(self.timeseries)

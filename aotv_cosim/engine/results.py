@@ -3,7 +3,8 @@
 The time series is appended chunk by chunk to ``timeseries.csv.part`` and renamed to
 ``timeseries.csv`` when the run ends, however it ends (completed, failed or interrupted), so a
 reader never sees a half-written final file and a failed run keeps every row computed before the
-failure. Numbers are written with 17 significant digits: exact, and byte-identical between runs.
+failure. Numbers are written with 17 significant digits: exact, and byte-identical between runs;
+Integer and Enumeration columns as integers, Boolean ones as true/false, String ones quoted.
 A chunk is written as whole rows; if the write fails (disk full), the file is cut back to its
 last whole row and the run fails with an `OutputError` naming the cause.
 """
@@ -42,13 +43,16 @@ def write_json_atomically(path: Path, data) -> None:
 
 
 class TimeSeriesWriter:
-    """Receives chunks (times, rows of the master's buffer) and appends the chosen columns."""
+    """Receives chunks (times, rows of the master's buffer) and appends the chosen columns;
+    `decoder` (`variable_types.Decoder`) types the columns that are not Real."""
 
-    def __init__(self, out_dir: Path, columns, index):
+    def __init__(self, out_dir: Path, columns, index, decoder=None):
         self.path = Path(out_dir) / "timeseries.csv"
         self.part = self.path.with_name("timeseries.csv.part")
         self.columns = list(columns)
         self.select = [index[c] for c in self.columns]
+        self.decoder = decoder if decoder is not None and any(
+            decoder.kind(c) != "Real" for c in self.columns) else None
         self.times, self.chunks = [], []
         self.whole = 0  # bytes of the file that are whole lines (header and rows)
         try:
@@ -74,7 +78,10 @@ class TimeSeriesWriter:
     def __call__(self, times, rows):
         data = np.column_stack([times, rows[:, self.select]])
         text = io.StringIO()
-        np.savetxt(text, data, fmt="%.17g", delimiter=",")
+        if self.decoder is None:
+            np.savetxt(text, data, fmt="%.17g", delimiter=",")
+        else:
+            _typed_lines(text, data, ["Real"] + [self.decoder.kind(c) for c in self.columns], self.decoder.texts)
         self._write(text.getvalue().encode())
         self.times.append(times)
         self.chunks.append(data[:, 1:])
@@ -94,20 +101,39 @@ class TimeSeriesWriter:
         return np.concatenate(self.times), np.vstack(self.chunks)
 
 
-def statistics(columns, times, rows):
-    """Final values, minima and maxima (with their times) of each column."""
+def _typed_lines(text, data, kinds, texts):
+    """Rows of `data` (time first) as CSV lines, each column written as its type: Real with 17
+    significant digits, Integer and Enumeration as integers, Boolean as true/false, String
+    quoted (a quote doubled)."""
+    def cell(kind, x):
+        if kind == "Real":
+            return "%.17g" % x
+        if kind == "Boolean":
+            return "true" if x else "false"
+        if kind == "String":
+            return '"' + texts[int(x)].replace('"', '""') + '"'
+        return "%d" % x
+    for row in data:
+        text.write(",".join(cell(k, x) for k, x in zip(kinds, row)) + "\n")
+
+
+def statistics(columns, times, rows, decoder=None):
+    """Final values, minima and maxima (with their times) of each column; with a `decoder` the
+    columns that are not Real are given as their type (no extrema for a String)."""
     final, minima, maxima = {}, {}, {}
     if len(times) == 0:
         return final, minima, maxima
     for k, name in enumerate(columns):
         col = rows[:, k]
+        kind = decoder.kind(name) if decoder is not None else "Real"
         finite = np.isfinite(col)
-        final[name] = _number(col[-1])
-        if finite.any():
+        final[name] = _number(col[-1]) if kind == "Real" else decoder.value(name, col[-1])
+        if finite.any() and kind != "String":
             i_min = int(np.nanargmin(np.where(finite, col, np.nan)))
             i_max = int(np.nanargmax(np.where(finite, col, np.nan)))
-            minima[name] = {"value": float(col[i_min]), "time": float(times[i_min])}
-            maxima[name] = {"value": float(col[i_max]), "time": float(times[i_max])}
+            value = float if kind == "Real" else (lambda x: decoder.value(name, x))
+            minima[name] = {"value": value(col[i_min]), "time": float(times[i_min])}
+            maxima[name] = {"value": value(col[i_max]), "time": float(times[i_max])}
     return final, minima, maxima
 
 
@@ -116,22 +142,34 @@ def _number(x):
     return x if np.isfinite(x) else str(x)
 
 
-def evaluate_expectations(expectations, columns, times, rows, event):
-    """Measured value, error and pass/fail of each expectation."""
+def evaluate_expectations(expectations, columns, times, rows, event, decoder=None):
+    """Measured value, error and pass/fail of each expectation: a Real or Integer one within its
+    allowed error (an Integer without tolerance exactly), a Boolean, String or Enumeration one
+    by equality (`error` and `allowed_error` None)."""
     results = []
     for e in expectations:
-        measured = _measure(e, columns, times, rows, event)
-        error = None if measured is None else measured - e.value
-        allowed = e.allowed_error()
+        kind = decoder.kind(e.signal) if decoder is not None else "Real"
+        measured = _measure(e, columns, times, rows, event, kind)
+        if kind in ("Real", "Integer"):
+            error = None if measured is None else measured - e.value
+            allowed = e.allowed_error()
+            passed = error is not None and bool(np.isfinite(error)) and abs(error) <= allowed
+        else:
+            measured = None if measured is None else decoder.value(e.signal, measured) \
+                if not isinstance(measured, str) else measured
+            error = allowed = None
+            passed = measured is not None and measured == e.value
         results.append({
             "signal": e.signal, "at": e.at, "expected": e.value, "measured": measured,
             "error": error, "allowed_error": allowed, "source": e.source, "note": e.note,
-            "passed": error is not None and bool(np.isfinite(error)) and abs(error) <= allowed,
+            "passed": passed,
         })
     return results
 
 
-def _measure(e, columns, times, rows, event):
+def _measure(e, columns, times, rows, event, kind="Real"):
+    """The value `e` checks, as a float; a discrete signal's value at a time is the one it
+    holds there (its last value at or before that time), not an interpolation."""
     if len(times) == 0:
         return None
     col = rows[:, columns.index(e.signal)]
@@ -142,7 +180,9 @@ def _measure(e, columns, times, rows, event):
     if e.at == "max":
         return float(np.max(col))
     if e.at == "event":
-        return None if event is None else float(event["values"][e.signal])
+        return None if event is None else event["values"][e.signal]
     if not times[0] <= e.at <= times[-1]:
         return None
+    if kind != "Real":
+        return float(col[int(np.searchsorted(times, e.at, side="right")) - 1])
     return float(np.interp(e.at, times, col))

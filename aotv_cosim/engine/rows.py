@@ -6,6 +6,7 @@ and blamed on the component that produced it.
 import numpy as np
 
 from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.engine.variable_types import typed
 
 CHUNK = 1000
 """Communication points recorded between two flushes to the result files."""
@@ -63,7 +64,13 @@ class Rows:
         return error
 
     def event(self, cond, t0, t1, fraction, previous):
-        """The stop condition's crossing, linearly interpolated between two communication points."""
-        values = previous + fraction * (self.master.array - previous)
+        """The stop condition's crossing, linearly interpolated between two communication points
+        (`fraction` None for a discrete signal: the values at t1), each value of its type."""
+        if fraction is None:
+            fraction, values = 1.0, self.master.array
+        else:
+            values = previous + fraction * (self.master.array - previous)
+        kinds, strings = self.master.types, self.master.strings
         return {"signal": cond.signal, "threshold": cond.threshold, "time": t0 + fraction * (t1 - t0),
-                "values": {sig: float(values[i]) for sig, i in self.master.index.items()}}
+                "values": {sig: float(values[i]) if kinds[sig] == "Real" else typed(kinds[sig], values[i], strings)
+                           for sig, i in self.master.index.items()}}

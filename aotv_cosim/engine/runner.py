@@ -14,18 +14,21 @@ from aotv_cosim.engine.outdir import claimed
 from aotv_cosim.engine.results import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
                                        write_json_atomically)
 from aotv_cosim.engine.series import SeriesTable, units_of, write_parquet
+from aotv_cosim.engine.variable_types import Decoder
 
 FORMATS = ("csv", "parquet")
 """Time series files a run can write: timeseries.csv (as the run goes) and timeseries.parquet."""
 
 
 class Run(NamedTuple):
-    """A finished run: its summary dict and the recorded table (columns, times in s, rows)."""
+    """A finished run: its summary dict and the recorded table (columns, times in s, rows as
+    float64; `decoder` gives the columns that are not Real their types, `variable_types`)."""
 
     summary: dict
     columns: list
     times: np.ndarray
     rows: np.ndarray
+    decoder: Decoder = None
 
 
 def recorded_columns(scenario):
@@ -35,6 +38,11 @@ def recorded_columns(scenario):
     wanted = scenario.record + [c.signal for c in scenario.stop_conditions]
     wanted += [e.signal for e in scenario.expectations] + extra
     return list(dict.fromkeys(wanted))
+
+
+def numeric_columns(scenario) -> list:
+    """The recorded columns a campaign row holds as numbers: every one but the String outputs."""
+    return [c for c in recorded_columns(scenario) if scenario.system.variable(c).type != "String"]
 
 
 def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)):
@@ -60,13 +68,14 @@ def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",
 
 
 def _write_into(scenario, out_dir, progress, make_plots, formats):
-    def open_series(columns, index):
-        return TimeSeriesWriter(out_dir, columns, index) if "csv" in formats else SeriesTable(columns, index)
+    def open_series(columns, index, decoder=None):
+        return TimeSeriesWriter(out_dir, columns, index, decoder) if "csv" in formats else \
+            SeriesTable(columns, index)
 
     run = simulate(scenario, open_series, progress)
-    summary, columns, times, rows = run
+    summary, columns, times, rows, decoder = run
     if "parquet" in formats and summary["stop_reason"] != "output failed":
-        write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary["units"])
+        write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary["units"], decoder)
     if make_plots and len(times) > 1 and summary["status"] != "interrupted" and summary["stop_reason"] != "output failed":
         summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
                                           scenario.path.stem)
@@ -79,7 +88,7 @@ def _write_into(scenario, out_dir, progress, make_plots, formats):
 def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
     """Run the scenario; nothing is written but what the series object does with the rows.
 
-    open_series(columns, index) makes the master's record callback (a `SeriesTable`, kept in
+    open_series(columns, index[, decoder]) makes the master's record callback (a `SeriesTable`, kept in
     memory, or a `TimeSeriesWriter`) once the buffer layout `index` is known; it needs `close()`
     and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred (`interrupts`): a signal
     ends the run before its next step, or, arriving after the last step, still marks it
@@ -91,16 +100,21 @@ def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
 def _simulate(scenario, open_series, progress):
     writer = None
 
+    columns = recorded_columns(scenario)
+    types = {c: scenario.system.variable(c).type for c in columns}
+    decoder = None
+
     def record(times, rows):
         nonlocal writer
         if writer is None:
-            writer = open_series(recorded_columns(scenario), master.index)
+            writer = open_series(columns, master.index, decoder) if decoder else open_series(columns, master.index)
         writer(times, rows)
 
     master = Master(scenario, record, progress)
+    if any(kind != "Real" for kind in types.values()):
+        decoder = Decoder({c: k for c, k in types.items() if k != "Real"}, master.strings.texts)
     outcome = master.run()
     _attach_fmu_log(outcome, master)
-    columns = recorded_columns(scenario)
     try:
         if writer is None:  # failed before the first row: still leave a readable, empty series
             columns = []
@@ -111,7 +125,7 @@ def _simulate(scenario, open_series, progress):
     times, rows = writer.table() if writer is not None else ([], [])
     if interrupts.received() and outcome.status == "completed":  # signal after the last step
         outcome.status, outcome.stop_reason = "interrupted", f"interrupted by {interrupts.name()}"
-    final, minima, maxima = statistics(columns, times, rows)
+    final, minima, maxima = statistics(columns, times, rows, decoder)
     summary = {
         "scenario": str(scenario.path),
         "system": str(scenario.system.path),
@@ -122,6 +136,7 @@ def _simulate(scenario, open_series, progress):
         "error": outcome.error,
         "error_detail": outcome.error_detail,
         "event": outcome.event,
+        **({"terminate_request": outcome.terminate_request} if outcome.terminate_request else {}),
         "algorithm": scenario.algorithm,
         "start": scenario.start, "stop": scenario.stop, "step": scenario.step,
         "end_time": float(times[-1]) if len(times) else None,
@@ -132,13 +147,14 @@ def _simulate(scenario, open_series, progress):
         "us_per_step": (outcome.wall_time - outcome.init_time) / outcome.steps * 1e6 if outcome.steps else None,
         "final": final, "min": minima, "max": maxima,
         "units": units_of(scenario.system, columns),
-        "expectations": evaluate_expectations(scenario.expectations, columns, times, rows,
-                                              outcome.event) if outcome.status == "completed" else [],
+        **({"types": decoder.types} if decoder else {}),
+        "expectations": evaluate_expectations(scenario.expectations, columns, times, rows, outcome.event,
+                                              decoder) if outcome.status in ("completed", "terminated") else [],
         "fmus": outcome.fmus,
         "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
         "plots": [],
     }
-    return Run(summary, columns, times, rows)
+    return Run(summary, columns, times, rows, decoder)
 
 
 def _output_failed(outcome, exc):
@@ -159,9 +175,12 @@ def _attach_fmu_log(outcome, master):
 def _warnings(scenario, outcome):
     """What a completed run did not do that the scenario asked for: a stop condition never met,
     expectations not checked because the time span was overridden, a tolerance whose global
-    error estimate is still above it after the last attempt (`engine.adaptive`)."""
-    warnings = [f"{len(scenario.skipped)} expectation(s) not checked: start/stop overridden "
-               f"(run {scenario.start:g}..{scenario.stop:g} s)"] if scenario.skipped else []
+    error estimate is still above it after the last attempt (`engine.adaptive`); a run that
+    records no signal beyond time; and the wiring's warnings
+    (a unit on one side only of a connection)."""
+    warnings = list(scenario.system.warnings) + _unrecorded(recorded_columns(scenario))
+    warnings += [f"{len(scenario.skipped)} expectation(s) not checked: start/stop overridden "
+                 f"(run {scenario.start:g}..{scenario.stop:g} s)"] if scenario.skipped else []
     control = outcome.step_control or {}
     if control.get("tolerance_met") is False:
         asked = scenario.step_control.tolerance
@@ -171,5 +190,15 @@ def _warnings(scenario, outcome):
                      for sig, err in control["global_error"].items() if err is None or err > asked[sig]]
     if outcome.status != "completed" or not scenario.stop_conditions or outcome.event is not None:
         return warnings
-    conditions = ", ".join(f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)
+    conditions = ", ".join(f"{c.signal} changing" if c.threshold is None else
+                           f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)
     return warnings + [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]
+
+
+
+def _unrecorded(columns) -> list:
+    """A warning when the run records no signal beyond time (the default record holds every
+    output of every type, so it leaves none out)."""
+    if columns:
+        return []
+    return ["no signal is recorded beyond time: the system has no output (add a component with outputs)"]

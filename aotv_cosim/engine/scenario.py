@@ -1,7 +1,7 @@
 """Scenario file -> validated Scenario: system, times, overrides, stop conditions, records, checks."""
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from aotv_cosim.engine.dispersion_sets import dispersion_entries
@@ -11,6 +11,8 @@ from aotv_cosim.engine.step_control import StepControl, step_control
 from aotv_cosim.engine.paths import regular_file, resolved
 from aotv_cosim.engine.system import System, load_system
 from aotv_cosim.engine.ranges import check_dispersion
+from aotv_cosim.engine.capabilities import check_capabilities, default_experiment
+from aotv_cosim.engine.variable_types import DISCRETE, enumeration_value
 from aotv_cosim.engine.run_size import check_run_size
 
 
@@ -20,7 +22,9 @@ MAX_STEPS = 1e9
 
 @dataclass(frozen=True)
 class StopCondition:
-    """Stop when `signal` crosses `threshold` in `direction` ('up', 'down' or 'either')."""
+    """Stop when `signal` crosses `threshold` in `direction` ('up', 'down' or 'either'), or,
+    with `threshold` None, when the value of a discrete signal (Integer, Boolean, Enumeration,
+    String) changes from one communication point to the next."""
 
     signal: str
     threshold: float
@@ -29,7 +33,10 @@ class StopCondition:
 
 def crossing(before, now, threshold, direction):
     """None, or whether a stop condition's signal crossed `threshold` going up from `before` to
-    `now` (direction 'up', 'down' or 'either'; landing on the threshold counts)."""
+    `now` (direction 'up', 'down' or 'either'; landing on the threshold counts). A `threshold`
+    None stands for any change of a discrete signal: whether it went up, None if unchanged."""
+    if threshold is None:
+        return None if now == before else now > before
     up = before < threshold <= now
     if up and direction != "down":
         return True
@@ -40,7 +47,8 @@ def crossing(before, now, threshold, direction):
 
 @dataclass(frozen=True)
 class Expectation:
-    """A checked number: `signal` at end/min/max/event/time must equal `value` within tolerance."""
+    """A checked value: `signal` at end/min/max/event/time must equal `value` within tolerance
+    (a number), or exactly (a Boolean, String or Enumeration value, an integer without tolerance)."""
 
     signal: str
     at: object
@@ -150,10 +158,11 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
     overrides = dict(doc.get("parameters", {}))
     system = load_system(system_path, overrides, overrides_file=path) if not sets else \
         load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
-    expectations = [Expectation(e["signal"], e["at"], float(e["value"]), e["source"],
+    expectations = [Expectation(e["signal"], e["at"], _expected(e["value"]), e["source"],
                                 e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
                     for e in doc.get("expectations", [])]
     retimed = start is not None or stop is not None
+    doc = {**default_experiment(system, path, doc, given={"start": start, "stop": stop, "step": step}), **doc}
     options = _step_options(doc)
     scenario = Scenario(
         path=path, system=system, start=float(doc.get("start", 0.0) if start is None else start),
@@ -163,9 +172,10 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         step_control=step_control(options, float(options["size"]), path)
         if step is None and isinstance(doc.get("step"), dict) else None,
         algorithm=doc.get("algorithm", "gauss-seidel"),
-        stop_conditions=[StopCondition(c["signal"], float(c["crosses"]), c.get("direction", "either"))
+        stop_conditions=[StopCondition(c["signal"], float(c["crosses"]) if "crosses" in c else None,
+                                       c.get("direction", "either"))
                          for c in doc.get("stop_conditions", [])],
-        record=list(doc.get("record", _real_outputs(system))),
+        record=list(doc.get("record", system.outputs())),
         record_every=int(doc.get("record_every", 1)),
         expectations=[e for e in expectations if not retimed or e.at == "event"],
         skipped=[e for e in expectations if retimed and e.at != "event"],
@@ -179,17 +189,32 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
     )
     _check_times(scenario)
+    check_capabilities(scenario)
     _check_signals(scenario, doc)
+    scenario.expectations = [_enumerated(scenario.system, e) for e in scenario.expectations]
     return scenario
 
 
+def _enumerated(system, e: Expectation) -> Expectation:
+    """`e` with an Enumeration item's name replaced by its integer."""
+    var = system.variable(e.signal)
+    if var.type != "Enumeration" or not isinstance(e.value, str):
+        return e
+    comp = system.components[e.signal.split(".", 1)[0]]
+    return replace(e, value=float(enumeration_value(comp.fmu, var.name, e.value)))
+
+
+def _expected(value):
+    """An expectation's value: a number as a float, a Boolean or a String (or an Enumeration
+    item's name) as given."""
+    return value if isinstance(value, (bool, str)) else float(value)
+
+
+NUMERIC = ("Real", "Integer", "Enumeration", "Boolean")
+"""Types a plot can draw (a Boolean as 0/1)."""
+
 UNSAFE_IN_COLUMNS = (",", '"', "\n", "\r")
 """Characters a recorded signal's name may not hold: timeseries.csv's header is the names."""
-
-
-def _real_outputs(system) -> list:
-    """The default record: every Real output (the master reads and records Real values only)."""
-    return [o for o in system.outputs() if system.variable(o).type == "Real"]
 
 
 def _step_options(doc) -> dict:
@@ -224,17 +249,18 @@ def _check_signals(s: Scenario, doc):
     outputs = set(s.system.outputs())
     problems = []
 
-    def check(signal, entry):
+    def check(signal, entry, types=None, use=""):
         if signal in outputs:
             kind = s.system.variable(signal).type
-            if kind != "Real":
-                problems.append(InputError(f"{signal} is {kind}: the master reads and records Real outputs only",
-                                           file=s.path, entry=entry, fix="use a Real output"))
+            if types is not None and kind not in types:
+                problems.append(InputError(f"{signal} is {_a(kind)} {kind}: {use} needs "
+                                           f"{' or '.join(types)} outputs", file=s.path, entry=entry,
+                                           fix=f"use {_a(types[0])} {' or '.join(types)} output"))
             elif any(c in signal for c in UNSAFE_IN_COLUMNS):
                 problems.append(InputError(f"{signal!r} holds a comma, quote or line break, which a "
                                            "timeseries.csv column name cannot", file=s.path,
                                            entry=entry if "record" in doc or not entry.startswith("record")
-                                           else f"{entry} (default: every Real output)",
+                                           else f"{entry} (default: every output)",
                                            fix="give \"record\" without it (rename the FMU variable to record it)"))
             return
         comp = signal.split(".", 1)[0]
@@ -245,10 +271,18 @@ def _check_signals(s: Scenario, doc):
                                    entry=entry, fix=fix))
 
     for k, c in enumerate(s.stop_conditions):
-        check(c.signal, f"stop_conditions[{k}].signal")
+        if c.threshold is None:
+            check(c.signal, f"stop_conditions[{k}].signal", DISCRETE, "a stop condition on a change")
+        else:
+            check(c.signal, f"stop_conditions[{k}].signal", ("Real", "Integer"), "a stop condition on a crossing")
+        if c.threshold is None and s.step_control is not None:
+            problems.append(InputError("a stop condition on a change with error-controlled steps: a change "
+                                       "is not located inside a step", file=s.path,
+                                       entry=f"stop_conditions[{k}]",
+                                       fix="give a fixed step size, or stop on a crossing"))
     if s.step_control is not None:
         for signal in s.step_control.tolerance:
-            check(signal, f"step.tolerance.{signal}")
+            check(signal, f"step.tolerance.{signal}", ("Real",), "an error tolerance")
         stateless = [name for name, comp in s.system.components.items()
                      if not comp.fmu.model_description.coSimulation.canGetAndSetFMUstate]
         if stateless:
@@ -260,6 +294,8 @@ def _check_signals(s: Scenario, doc):
         check(signal, f"record[{k}]")
     for k, e in enumerate(s.expectations):
         check(e.signal, f"expectations[{k}].signal")
+        if e.signal in outputs:
+            problems += _check_expected(s, e, f"expectations[{k}]")
         if e.at == "event" and not s.stop_conditions:
             problems.append(InputError("'event' needs a stop condition", file=s.path,
                                        entry=f"expectations[{k}].at", fix="add stop_conditions or use 'end'"))
@@ -277,7 +313,7 @@ def _check_signals(s: Scenario, doc):
             problems += check_dispersion(s.system.components[comp].fmu, var, d, file=s.path,
                                          entry=f"dispersions.{d.signal}")
     for k, signal in enumerate(s.scatter):
-        check(signal, f"montecarlo.scatter[{k}]")
+        check(signal, f"montecarlo.scatter[{k}]", NUMERIC, "a scatter plot")
     if s.outcome is not None:
         vehicle = s.outcome.get("vehicle", "vehicle")
         missing = [f"{vehicle}.{n}" for n in ("h", "v", "gamma") if f"{vehicle}.{n}" not in s.record]
@@ -286,5 +322,39 @@ def _check_signals(s: Scenario, doc):
                                        entry="montecarlo.outcome", fix=f"add {', '.join(missing)} to record"))
     for k, p in enumerate(s.plots):
         for signal in p["signals"] + ([p["x"]] if p.get("x", "time") != "time" else []):
-            check(signal, f"plots[{k}]")
+            check(signal, f"plots[{k}]", NUMERIC, "a plot")
     raise_if_any(problems)
+
+
+def _a(word: str) -> str:
+    """The indefinite article for `word` ('an Integer', 'a Real')."""
+    return "an" if word[:1].lower() in "aeiou" else "a"
+
+
+def _check_expected(s: Scenario, e: Expectation, entry) -> list:
+    """Problems with an expectation's value for its signal's type: a Boolean wants true/false, a
+    String a text, an Enumeration an item's integer or name, a number a tolerance; min and max
+    are measured on numbers only."""
+    var = s.system.variable(e.signal)
+    comp = s.system.components[e.signal.split(".", 1)[0]]
+    if var.type == "Enumeration":
+        ok = not isinstance(e.value, bool) and enumeration_value(
+            comp.fmu, var.name, int(e.value) if isinstance(e.value, float) and e.value.is_integer() else e.value) is not None
+    elif var.type == "Boolean":
+        ok = isinstance(e.value, bool)
+    elif var.type == "String":
+        ok = isinstance(e.value, str)
+    else:
+        ok = isinstance(e.value, float)
+    if not ok:
+        return [InputError(f"{e.signal} is {_a(var.type)} {var.type}, expected value {e.value!r}", file=s.path,
+                           entry=f"{entry}.value", fix={"Boolean": "give true or false", "String": "give a text",
+                                                       "Enumeration": "give an item's integer or name"}.get(
+                               var.type, "give a number"))]
+    if isinstance(e.value, float) and e.tolerance is None and e.rel_tolerance is None and var.type == "Real":
+        return [InputError("a Real expectation needs a tolerance", file=s.path, entry=entry,
+                           fix="give tolerance or rel_tolerance")]
+    if var.type in ("String", "Boolean") and e.at in ("min", "max"):
+        return [InputError(f"{e.at} of {_a(var.type)} {var.type} is not defined", file=s.path, entry=f"{entry}.at",
+                           fix="check it at end, event or a time")]
+    return []

@@ -4,7 +4,8 @@
 Python API's `run(out=None)`, or `--format parquet`); it offers the same `close` and `table` as
 `results.TimeSeriesWriter`. `units_of` gives each column's unit as the FMU's modelDescription
 declares it (SI, "1" for dimensionless, "" when an FMU declares none). `write_parquet` writes
-time and columns as float64 fields, each field's unit in its metadata under b"unit".
+time and Real columns as float64 fields, Integer and Enumeration ones as int32, Boolean ones as
+bool and String ones as string, each field's unit in its metadata under b"unit".
 """
 
 import os
@@ -19,7 +20,7 @@ TIME_UNIT = "s"
 class SeriesTable:
     """Keeps the chosen columns of the recorded chunks (times, rows of the master's buffer)."""
 
-    def __init__(self, columns, index):
+    def __init__(self, columns, index, decoder=None):
         self.columns = list(columns)
         self.select = [index[c] for c in self.columns]
         self.times, self.chunks = [], []
@@ -43,10 +44,11 @@ def units_of(system, columns) -> dict:
     return {"time": TIME_UNIT, **{c: system.variable(c).unit for c in columns}}
 
 
-def write_parquet(path, columns, times, rows, units) -> Path:
+def write_parquet(path, columns, times, rows, units, decoder=None) -> Path:
     """Write time and the columns to the Parquet file `path` (via a temporary file and a rename),
     with each field's unit in its metadata (b"unit") and the units also in the schema metadata
-    (b"units", JSON), so a reader sees them with or without per-field support."""
+    (b"units", JSON), so a reader sees them with or without per-field support; `decoder`
+    (`variable_types.Decoder`) gives the columns that are not Real their types."""
     import json
 
     import pyarrow as pa
@@ -54,10 +56,15 @@ def write_parquet(path, columns, times, rows, units) -> Path:
 
     path = Path(path)
     names = ["time"] + list(columns)
-    data = [np.asarray(times, dtype=float)] + [np.asarray(rows[:, k], dtype=float) for k in range(len(columns))]
-    fields = [pa.field(n, pa.float64(), metadata={b"unit": units.get(n, "").encode()}) for n in names]
+    data = [np.asarray(times, dtype=float)] + [
+        np.asarray(rows[:, k], dtype=float) if decoder is None else decoder.column(c, rows[:, k])
+        for k, c in enumerate(columns)]
+    kinds = ["Real"] + [decoder.kind(c) if decoder is not None else "Real" for c in columns]
+    arrow = {"Real": pa.float64(), "Integer": pa.int32(), "Enumeration": pa.int32(), "Boolean": pa.bool_(),
+             "String": pa.string()}
+    fields = [pa.field(n, arrow[k], metadata={b"unit": units.get(n, "").encode()}) for n, k in zip(names, kinds)]
     schema = pa.schema(fields, metadata={b"units": json.dumps({n: units.get(n, "") for n in names}).encode()})
-    table = pa.Table.from_arrays([pa.array(d) for d in data], schema=schema)
+    table = pa.Table.from_arrays([pa.array(d, type=f.type) for d, f in zip(data, fields)], schema=schema)
     tmp = path.with_name(path.name + ".part")
     pq.write_table(table, tmp)
     os.replace(tmp, path)

@@ -13,6 +13,7 @@ depends on the vehicle's altitude: only chains of same-instant dependencies do.
 
 import difflib
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -21,6 +22,7 @@ from aotv_cosim.engine.errors import AotvError, InputError, raise_if_any
 from aotv_cosim.engine.fmu_file import FmuInfo, Variable, read_fmu, resolve_fmu
 from aotv_cosim.engine.paths import resolved
 from aotv_cosim.engine.ranges import check_range
+from aotv_cosim.engine.variable_types import declared_type_name, enumeration_value, items
 from aotv_cosim.ssp.load import read_ssp
 
 
@@ -34,13 +36,18 @@ class Component:
 
 @dataclass(frozen=True)
 class Connection:
+    """output -> input; `as_type` "Real" when an Integer or Boolean output feeds a Real input
+    (written 'a.k -> b.u (as Real)'): the input gets the integer, or 0.0/1.0, as a Real."""
+
     source: str
     output: str
     target: str
     input: str
+    as_type: str = None
 
     def __str__(self):
-        return f"{self.source}.{self.output} -> {self.target}.{self.input}"
+        text = f"{self.source}.{self.output} -> {self.target}.{self.input}"
+        return f"{text} (as {self.as_type})" if self.as_type else text
 
 
 @dataclass
@@ -50,6 +57,8 @@ class System:
     path: Path
     components: dict
     connections: list
+    warnings: list = field(default_factory=list)
+    """What the wiring leaves uncertain without being wrong (a unit on one side of a connection)."""
 
     def variable(self, signal: str) -> Variable:
         comp, var = signal.split(".", 1)
@@ -69,22 +78,39 @@ class System:
         deps = self.components[comp].fmu.feedthrough.get(output, ())
         return {i for i in deps if any(c.target == comp and c.input == i for c in self.connections)}
 
+CONVERSION = re.compile(r"\s*\(as (\w+)\)\s*$")
+"""The explicit conversion written after a connection: ' (as Real)'."""
+
+
 def parse_connection(text: str, *, file=None, entry=None) -> Connection:
-    """'source.output -> target.input' (as the schema checked it) -> Connection."""
-    sides = [s.strip() for s in text.split("->")]
-    if len(sides) != 2 or not all("." in side for side in sides):
+    """'source.output -> target.input', optionally followed by ' (as Real)' (as the schema
+    checked it) -> Connection."""
+    conversion = CONVERSION.search(text)
+    as_type = conversion.group(1) if conversion else None
+    body = text[:conversion.start()] if conversion else text
+    sides = [s.strip() for s in body.split("->")]
+    if len(sides) != 2 or not all("." in side for side in sides) or as_type not in (None, "Real"):
         raise InputError(f"cannot read connection {text!r}", file=file, entry=entry,
-                         fix="write one 'source.output -> target.input' per entry")
+                         fix="write one 'source.output -> target.input' per entry, followed by "
+                             "' (as Real)' to feed an Integer or Boolean output to a Real input")
     source, output = sides[0].split(".", 1)
     target, inp = sides[1].split(".", 1)
-    return Connection(source, output, target, inp)
+    return Connection(source, output, target, inp, as_type)
 
 
-def check_value(var: Variable, value, *, file, entry):
-    """Problems with giving `value` to variable `var` (type, finiteness, causality)."""
+def check_value(var: Variable, value, *, file, entry, fmu=None):
+    """Problems with giving `value` to variable `var` (type, finiteness, causality); an
+    Enumeration (of the FmuInfo `fmu`) takes an item's integer or name."""
     if var.causality not in ("parameter", "input"):
         return [InputError(f"{var.name} is {_a(var.causality)} {var.causality}, it cannot be given a value",
                            file=file, entry=entry, fix="set a parameter or an unconnected input")]
+    if var.type == "Enumeration":
+        if fmu is not None and enumeration_value(fmu, var.name, value) is not None:
+            return []
+        known = items(fmu, var.name) if fmu is not None else {}
+        listed = ", ".join(f"{v} ({n!r})" for n, v in known.items())
+        return [InputError(f"{var.name} is an Enumeration, got {value!r}", file=file, entry=entry,
+                           fix=f"give one of its items by integer or name: {listed}")]
     ok = {"Real": isinstance(value, (int, float)) and not isinstance(value, bool),
           "Integer": isinstance(value, int) and not isinstance(value, bool),
           "Boolean": isinstance(value, bool),
@@ -137,7 +163,7 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
         for var, value in comp.parameters.items():
             entry = f"components.{comp.name}.parameters.{var}"
             problems += _check_known(comp, var, path, entry) or check_value(
-                comp.fmu.variables[var], value, file=path, entry=entry) or check_range(
+                comp.fmu.variables[var], value, file=path, entry=entry, fmu=comp.fmu) or check_range(
                 comp.fmu, var, value, file=path, entry=entry)
     for signal, value in (overrides or {}).items():
         entry = f"parameters.{signal}"
@@ -147,10 +173,17 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
             continue
         found = _check_known(components[comp_name], var, overrides_file, entry)
         problems += found or check_value(components[comp_name].fmu.variables[var], value,
-                                         file=overrides_file, entry=entry) or check_range(
+                                         file=overrides_file, entry=entry,
+                                         fmu=components[comp_name].fmu) or check_range(
             components[comp_name].fmu, var, value, file=overrides_file, entry=entry)
         if not found:
             components[comp_name].parameters[var] = value
+
+    raise_if_any(problems)
+    for comp in components.values():  # Enumeration items given by name -> their integers
+        comp.parameters = {var: enumeration_value(comp.fmu, var, value)
+                           if comp.fmu.variables[var].type == "Enumeration" else value
+                           for var, value in comp.parameters.items()}
 
     connections = []
     for k, text in enumerate(doc["connections"]):
@@ -164,7 +197,7 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
         problems += _check_connection(conn, components, path, entry)
     raise_if_any(problems)
 
-    system = System(path, components, connections)
+    system = System(path, components, connections, _unit_warnings(connections, components))
     problems += _check_inputs(system)
     raise_if_any(problems)
     _check_loops(system)
@@ -210,16 +243,41 @@ def _check_connection(conn, components, file, entry):
         return problems
     out = components[conn.source].fmu.variables[conn.output]
     inp = components[conn.target].fmu.variables[conn.input]
+    if conn.as_type is not None:
+        if out.type not in ("Integer", "Boolean") or inp.type != conn.as_type:
+            problems.append(InputError(f"cannot convert {out.type} -> {inp.type} (as {conn.as_type})",
+                                       file=file, entry=entry,
+                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input"))
+        return problems
     if out.type != inp.type:
+        convertible = out.type in ("Integer", "Boolean") and inp.type == "Real"
         problems.append(InputError(f"type mismatch: {out.type} -> {inp.type}", file=file, entry=entry,
-                                   fix="connect variables of the same type"))
-    elif out.type != "Real":
-        problems.append(InputError(f"{out.type} connections are not supported: the master exchanges Real values",
-                                   file=file, entry=entry, fix="connect Real variables (give the input a value)"))
+                                   fix="connect variables of the same type" + (
+                                       ", or write 'source.output -> target.input (as Real)' to convert"
+                                       if convertible else "")))
+    elif out.type == "Enumeration" and (declared_type_name(components[conn.source].fmu, conn.output)
+                                        != declared_type_name(components[conn.target].fmu, conn.input)):
+        problems.append(InputError(
+            f"Enumeration type mismatch: {declared_type_name(components[conn.source].fmu, conn.output)} -> "
+            f"{declared_type_name(components[conn.target].fmu, conn.input)}", file=file, entry=entry,
+            fix="connect Enumerations of the same declared type"))
     elif out.unit and inp.unit and out.unit != inp.unit:
         problems.append(InputError(f"unit mismatch: {out.unit} -> {inp.unit}", file=file, entry=entry,
                                    fix="connect variables of the same unit (SI at every interface)"))
     return problems
+
+
+def _unit_warnings(connections, components) -> list:
+    """A warning per connection whose output or input declares a unit and the other does not."""
+    warnings = []
+    for conn in connections:
+        out = components[conn.source].fmu.variables[conn.output]
+        inp = components[conn.target].fmu.variables[conn.input]
+        if bool(out.unit) != bool(inp.unit) and conn.as_type is None:
+            side, unit = ("input", inp.unit) if inp.unit else ("output", out.unit)
+            warnings.append(f"connection {conn}: only the {side} declares a unit ({unit}); "
+                            "check that the other side is in it")
+    return warnings
 
 
 def _check_inputs(system):

@@ -21,7 +21,7 @@ def _typed(text, type_):
         return None
     if type_ == "Real":
         return float(text)
-    if type_ == "Integer":
+    if type_ in ("Integer", "Enumeration"):
         return int(text)
     if type_ == "Boolean":
         return text in ("true", "1")
@@ -38,8 +38,19 @@ def fmu_rows(info) -> list:
         rows.append({"variable": v.name, "causality": v.causality, "variability": v.variability,
                      "type": v.type, "unit": info.variables[v.name].unit, "start": _typed(v.start, v.type),
                      "min": _typed(low, v.type), "max": _typed(high, v.type),
-                     "description": v.description or ""})
+                     "description": _with_items(v)})
     return rows
+
+
+def _with_items(variable) -> str:
+    """A variable's description, followed for an Enumeration by its declared type's items
+    ('Mode: 1 Hold, 2 Ramp'), which the wiring and --set accept by integer or by name."""
+    text = variable.description or ""
+    declared = variable.declaredType
+    if variable.type != "Enumeration" or declared is None:
+        return text
+    listed = f"{declared.name}: " + ", ".join(f"{item.value} {item.name}" for item in declared.items)
+    return f"{text} ({listed})" if text else listed
 
 
 def describe(target) -> pd.DataFrame:
@@ -57,7 +68,8 @@ def describe(target) -> pd.DataFrame:
     path = Path(text)
     if path.suffix == ".fmu" or (not path.suffix and not path.exists()):
         fmu = resolve_fmu(text, Path.cwd(), file=text, entry="FMU")
-        return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS))
+        return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS),
+                            dtype=object)  # an Integer's start stays an integer beside Real ones
     if not path.is_file():
         raise InputError("file not found", file=text,
                          fix="give an FMU name of this package, a .fmu, a wiring or a scenario file")
@@ -87,7 +99,7 @@ def _system_table(system) -> pd.DataFrame:
             if (comp.name, name) in sources:
                 value = "<- " + ".".join(sources[(comp.name, name)])
             rows.append({"component": comp.name, **row, "value": value})
-    return pd.DataFrame(rows, columns=["component", *COLUMNS, "value"])
+    return pd.DataFrame(rows, columns=["component", *COLUMNS, "value"], dtype=object)
 
 
 def format_table(frame: pd.DataFrame) -> str:
