@@ -112,6 +112,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         console.print_summary(summary, out_dir)
+        _print_fmu_traceback(summary)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
         if not all(r["passed"] for r in summary["expectations"]):
@@ -120,6 +121,17 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
 
     with interrupts.deferred():
         _guard(body)
+
+
+def _print_fmu_traceback(summary):
+    """The Python traceback an FMU logged when it failed (its file and line), with --debug; else
+    a hint that it is there."""
+    trace = (summary.get("error_detail") or {}).get("traceback")
+    if trace and _Context.debug:
+        click.echo(trace, err=True)
+    elif trace:
+        click.echo("  the FMU's Python traceback is in summary.json (error_detail.traceback); "
+                   "--debug prints it", err=True)
 
 
 @main.command()
@@ -223,17 +235,20 @@ def describe(target):
 
 
 @main.command("build-fmus")
+@click.argument("sources", nargs=-1, metavar="[NAME|SOURCE.py]...")
 @click.option("--out", type=UserPath(file_okay=False), help="Put the FMUs here instead of the cache.")
-def build_fmus(out):
-    """Build every FMU of fmus_src (only those whose sources changed)."""
+def build_fmus(sources, out):
+    """Build the FMUs of fmus_src, or only the given ones: names of this package or your own FMU
+    sources (SOURCE.py, any folder; see docs/writing-a-guidance-law.md). Only changed sources are
+    rebuilt (content hash)."""
     from aotv_cosim.fmu import build as fmu_build
     from aotv_cosim.fmu.build_progress import BuildProgress
 
     def body():
-        names = fmu_build.available_fmus()
-        with BuildProgress(total=sum(fmu_build.needs_build(n, out) for n in names)) as progress:
-            for name in names:
-                progress.echo(f"{name}: {fmu_build.ensure_fmu(name, out)}")
+        refs = list(sources) or fmu_build.available_fmus()
+        with BuildProgress(total=sum(fmu_build.needs_build(r, out) for r in refs)) as progress:
+            for ref in refs:
+                progress.echo(f"{fmu_build.fmu_source(ref).stem}: {fmu_build.ensure_fmu(ref, out)}")
 
     _guard(body)
 
