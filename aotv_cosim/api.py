@@ -1,4 +1,5 @@
-"""The Python API: `run` a scenario, run a Monte Carlo campaign (`montecarlo`), `describe` FMUs.
+"""The Python API: `run` a scenario, run a Monte Carlo campaign (`montecarlo`), compare guidance laws
+(`benchmark`), `describe` FMUs.
 
 Everything returns pandas DataFrames with the unit of every column (`.units`, and the
 DataFrame's `attrs["units"]`), taken from the FMUs' modelDescriptions. Nothing here installs a
@@ -16,7 +17,7 @@ from aotv_cosim.engine.errors import InputError
 from aotv_cosim.fmu.describe import describe
 from aotv_cosim.engine.result import Campaign, Result
 
-__all__ = ["run", "montecarlo", "describe", "Result", "Campaign"]
+__all__ = ["run", "montecarlo", "benchmark", "describe", "Result", "Campaign", "Benchmark"]
 
 
 def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots=False,
@@ -67,6 +68,49 @@ def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None
                                make_plots=out is not None)
         rows = pd.read_parquet(folder / "rows.parquet")
     return Campaign(summary, rows, out=Path(out) if out is not None else None)
+
+
+@dataclasses.dataclass
+class Benchmark:
+    """A guidance benchmark: `scorecard` (one row per law, index law) and `rows` (every run of
+    every law, a `law` column) as DataFrames with their units in `.attrs["units"]`; `result`:
+    the scorecard.json dict (which laws were flown now and which reused, wall time); `out`: the
+    output folder or None."""
+
+    scorecard: object
+    rows: object
+    result: dict
+    out: Path = None
+
+    def __repr__(self):
+        return f"<Benchmark {len(self.scorecard)} laws x {self.result['runs']} runs, seed {self.result['seed']}>"
+
+
+def benchmark(scenario_set, laws=(), *, runs=1000, workers=None, seed=0, scheduler=None, out=None,
+              reuse=True) -> Benchmark:
+    """Fly every law of `scenario_set` (a folder of scenarios, one law each, or one scenario
+    file) and each of `laws` (wiring or scenario files of your own laws) through the set's
+    dispersions, `runs` runs each; see `aotv-cosim benchmark`. Laws whose scenario, FMUs,
+    dispersions, seed and runs are unchanged since an earlier benchmark are not flown again (their
+    stored rows are reused, unless reuse=False). out: the output folder, or None for a temporary
+    one."""
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    from aotv_cosim.campaigns.backends import usable_cores
+    from aotv_cosim.campaigns.benchmark import run_benchmark
+
+    with tempfile.TemporaryDirectory(prefix="aotv_bench_") as tmp:
+        folder = Path(out) if out is not None else Path(tmp)
+        result = run_benchmark(scenario_set, runs, folder, workers=workers or usable_cores(), seed=seed,
+                               scheduler=scheduler, progress=False, laws=[str(p) for p in laws],
+                               reuse=reuse)
+        table = pq.read_table(folder / "rows.parquet")
+    rows = table.to_pandas()
+    rows.attrs["units"] = {field.name: (field.metadata or {}).get(b"unit", b"").decode() for field in table.schema}
+    scorecard = pd.DataFrame(result["scorecard"]).set_index("law")
+    scorecard.attrs["units"] = dict(result["units"])
+    return Benchmark(scorecard, rows, result, Path(out) if out is not None else None)
 
 
 def _scenario(scenario, sets, start, stop, step):

@@ -299,28 +299,37 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
 
 
 @main.command()
-@click.argument("scenario_set", metavar="SET", type=UserPath(file_okay=False))
+@click.argument("scenario_set", metavar="SET", type=UserPath(exists=True))
+@click.option("--law", "laws", multiple=True, type=UserPath(exists=True, dir_okay=False), metavar="FILE",
+              help="Your law: a wiring (flown in SET's first scenario) or a scenario with SET's dispersions "
+                   "(repeatable).")
 @click.option("--runs", type=click.IntRange(min=1), default=1000, show_default=True, help="Runs per law.")
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
               help="Local worker processes.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
-def benchmark(scenario_set, runs, workers, seed, scheduler, out):
-    """Fly every law (scenario) of SET through the same dispersions; write a scorecard."""
+@click.option("--refly", is_flag=True, help="Fly every law, even those whose stored rows could be reused.")
+def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
+    """Fly every law (scenario) of SET, a folder or one scenario file, and each --law through the
+    same dispersions; write a scorecard. A law whose scenario, FMUs, dispersions, seed and N are
+    unchanged since an earlier benchmark is not flown again: its stored rows are reused."""
     from aotv_cosim.campaigns.benchmark import run_benchmark
     from aotv_cosim.campaigns.benchmark_report import console
     from aotv_cosim.campaigns.checks import check_reachable
 
     def body():
-        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).name}-benchmark"
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).stem}-benchmark"
         writable_folder(out_dir)
         if scheduler:
             check_reachable(scheduler)
         result = _with_builds(lambda: run_benchmark(scenario_set, runs, out_dir, workers=workers, seed=seed,
-                                                    scheduler=scheduler))
+                                                    scheduler=scheduler, laws=laws, echo=click.echo,
+                                                    reuse=not refly))
         click.echo(console(result["scorecard"], result["units"]))
-        click.echo(f"{len(result['scorecard'])} laws x {runs} runs in {result['wall_time_s']:.1f} s; scorecard.csv,"
+        flown = [law for law, info in result["laws"].items() if not info["reused"]]
+        click.echo(f"{len(result['scorecard'])} laws x {runs} runs ({len(flown)} flown now in "
+                   f"{result['wall_time_s']:.1f} s, {len(result['scorecard']) - len(flown)} reused); scorecard.csv,"
                    f" rows.csv, rows.parquet, report.md and plots in {out_dir}")
 
     with interrupts.deferred():

@@ -42,8 +42,10 @@ def markdown(result, cards, units) -> str:
            "bound the 3-sigma-equivalent band. A `-` is a figure the runs do not provide.", "",
            "| " + " | ".join(lines[0]) + " |", "|---|" + "---:|" * (len(lines[0]) - 1)]
     out += ["| " + " | ".join(line) + " |" for line in lines[1:]]
-    out += ["", f"Campaign wall time, all laws: {result['wall_time_s']:.1f} s.", ""]
-    out += [f"- {law}: [{law}/report.md]({law}/report.md)" for law in result["laws"]]
+    out += ["", f"Campaign wall time of the laws flown now: {result['wall_time_s']:.1f} s.", ""]
+    out += [f"- {law}: rows reused from an earlier campaign with the same scenario, FMUs, dispersions, seed "
+            "and N" if info.get("reused") else f"- {law}: [{law}/report.md]({law}/report.md)"
+            for law, info in result["laws"].items()]
     out += [""] + [f"![{p}]({p})" for p in result.get("plots", [])]
     return "\n".join(out) + "\n"
 
