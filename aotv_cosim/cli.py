@@ -112,6 +112,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         console.print_summary(summary, out_dir)
+        _print_outcome(summary)
         _print_fmu_traceback(summary)
         if summary["status"] != "completed":
             sys.exit(_exit_status(summary))
@@ -121,6 +122,19 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
 
     with interrupts.deferred():
         _guard(body)
+
+
+def _print_outcome(summary):
+    """The run's class and exit-orbit figures in display units (km, m/s), when it is classified."""
+    outcome = summary.get("outcome")
+    if outcome:
+        def km(name):
+            value = float(outcome[name])
+            return f"{value / 1e3:.6g} km" if value == value else "-"
+
+        click.echo(f"  outcome: {outcome['class']} ({outcome['reason']}); apogee {km('apogee')}, perigee "
+                   f"{km('perigee')}, apogee error {km('apogee_error')}, correction dv "
+                   f"{float(outcome['dv_total']):.5g} m/s (SI in summary.json)")
 
 
 def _print_fmu_traceback(summary):

@@ -134,3 +134,21 @@ def test_the_extension_module_exports_the_bases():
     for name in ("AotvSlave", "EntryLatchedGuidance", "NominalTrackingGuidance"):
         assert getattr(laws, name).__doc__
     assert "log_queue" in laws.NOT_STATE and "MUTABLE_STATE" in laws.SAVED_STATE
+
+
+def test_a_single_run_is_classified_as_its_campaign_row():
+    """The run outcome (summary.json, Result.outcome) is the campaign's for the same values."""
+    import math
+
+    import aotv_cosim
+    from conftest import SCENARIOS
+
+    scenario = SCENARIOS / "benchmark_seed000" / "time_linear.json"
+    row = aotv_cosim.montecarlo(scenario, 1, workers=1).rows.iloc[0]
+    values = {k.split(".", 1)[1]: float(v) for k, v in row.items() if k.startswith("dispersed.")}
+    outcome = aotv_cosim.run(scenario, set=values).outcome
+    assert outcome["class"] == row["outcome"] and outcome["reason"] == row["outcome.reason"]
+    for name in ("apogee", "perigee", "apogee_error", "dv_total", "peak_heat_rate", "heat_load"):
+        assert math.isclose(float(outcome[name]), row[f"outcome.{name}"], rel_tol=1e-12), name
+    assert outcome["units"]["dv_total"] == "m/s"
+    assert aotv_cosim.run(SCENARIOS / "aotv_time_linear_nominal.json").outcome is None

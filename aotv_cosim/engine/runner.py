@@ -138,6 +138,10 @@ def _simulate(scenario, open_series, progress):
         "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
         "plots": [],
     }
+    if scenario.outcome is not None:  # classified as a campaign row would be
+        from aotv_cosim.campaigns.outcome_rows import run_outcome
+
+        summary["outcome"] = run_outcome(summary, scenario.outcome)
     return Run(summary, columns, times, rows)
 
 
