@@ -313,7 +313,7 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
 
 
 @main.command()
-@click.argument("scenario_set", metavar="SET", type=UserPath(exists=True))
+@click.argument("scenario_set", metavar="SET", type=UserPath())
 @click.option("--law", "laws", multiple=True, type=UserPath(exists=True, dir_okay=False), metavar="FILE",
               help="Your law: a wiring (flown in SET's first scenario) or a scenario with SET's dispersions "
                    "(repeatable).")
@@ -325,7 +325,8 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
 @click.option("--refly", is_flag=True, help="Fly every law, even those whose stored rows could be reused.")
 def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
-    """Fly every law (scenario) of SET, a folder or one scenario file, and each --law through the
+    """Fly every law (scenario) of SET (a folder, one scenario file, or a shipped set by name:
+    benchmark_seed000) and each --law through the
     same dispersions; write a scorecard. A law whose scenario, FMUs, dispersions, seed and N are
     unchanged since an earlier benchmark is not flown again: its stored rows are reused."""
     from aotv_cosim.campaigns.benchmark import run_benchmark

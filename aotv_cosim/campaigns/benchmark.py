@@ -41,17 +41,27 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
 whose value is finite (an unbound exit orbit has no finite apogee error)."""
 
 
+def set_path(set_dir) -> Path:
+    """SET as given when it exists, else the set of that name shipped with the package (e.g.
+    "benchmark_seed000": scenarios/benchmark_seed000 of the installed package)."""
+    from aotv_cosim.studies.shipped import scenarios_dir
+
+    given = Path(set_dir)
+    shipped = scenarios_dir() / given
+    return shipped if not given.exists() and not given.is_absolute() and shipped.exists() else given
+
+
 def scenarios_of(set_dir) -> list:
     """The set's scenario files, sorted, checked before any run: each classifies its runs and all
     give the same campaign columns. A set is a folder of scenarios or one scenario file. InputError
     for an empty or unusable set."""
-    folder = Path(set_dir)
+    folder = set_path(set_dir)
     if folder.is_file():
         paths = [folder]
     elif not folder.is_dir():
         raise InputError("not found", file=folder,
-                         fix="give a folder of scenario files, one law each (e.g. scenarios/benchmark_seed000), "
-                             "or one scenario file")
+                         fix="give a folder of scenario files, one law each, one scenario file, or the "
+                             "name of a shipped set (benchmark_seed000)")
     else:
         paths = sorted(folder.glob("*.json"))
     if not paths:
@@ -263,7 +273,7 @@ def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names,
     from aotv_cosim.campaigns import benchmark_report
 
     units_of_scores = dict(score_columns())
-    result = {"set": str(Path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
+    result = {"set": str(set_path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
               "units": units_of_scores, "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()),
               "laws": summaries}
     _write_scorecard(out, cards, units_of_scores)
