@@ -17,7 +17,7 @@ from aotv_cosim.engine.errors import InputError
 from aotv_cosim.fmu.describe import describe
 from aotv_cosim.engine.result import Campaign, Result
 
-__all__ = ["run", "montecarlo", "benchmark", "describe", "Result", "Campaign", "Benchmark"]
+__all__ = ["run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "Result", "Campaign", "Benchmark"]
 
 
 def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots=False,
@@ -111,6 +111,41 @@ def benchmark(scenario_set, laws=(), *, runs=1000, workers=None, seed=0, schedul
     scorecard = pd.DataFrame(result["scorecard"]).set_index("law")
     scorecard.attrs["units"] = dict(result["units"])
     return Benchmark(scorecard, rows, result, Path(out) if out is not None else None)
+
+
+def sweep(scenario, grids, *, workers=None, set=None, out=None):
+    """Fly `scenario` (a file) at every combination of `grids` ({"comp.var": values} or strings
+    "comp.var=LOW:HIGH:N"): one tidy DataFrame, a row per point (the parameters, status, outcome
+    class and metrics, exit state, extrema), units in `.attrs["units"]`. out: a folder for
+    sweep.csv/.parquet/.json and sweep.png, or None (nothing kept)."""
+    import pandas as pd
+
+    from aotv_cosim.campaigns.backends import usable_cores
+    from aotv_cosim.campaigns.sweep import run_sweep
+
+    specs = ([(name, [float(v) for v in values]) for name, values in grids.items()] if isinstance(grids, dict)
+             else list(grids))
+    with tempfile.TemporaryDirectory(prefix="aotv_sweep_") as tmp:
+        result = run_sweep(scenario, specs, Path(out) if out is not None else Path(tmp),
+                           workers=workers or usable_cores(), sets=set, progress=False)
+    frame = pd.DataFrame(result["rows"], columns=result["columns"])
+    frame.attrs["units"] = dict(result["units"])
+    return frame
+
+
+def corridor(scenario, *, lift_to_drag: float, tolerance: float = 100.0, bracket=(-0.08, -0.002),
+             out=None) -> dict:
+    """The theoretical entry corridor of `scenario` (a file whose runs are classified): the entry
+    flight-path angles (rad) bounding capture at full lift up ("steep") and full lift down
+    ("shallow") at the stated `lift_to_drag`, found by bisection until a run's apogee error is
+    within `tolerance` m of the capture band's edge; "width_rad", "width_deg" and the runs of
+    each bisection ("points": (gamma0, apogee error)). See `aotv_cosim.campaigns.corridor`. out:
+    a folder for corridor.json, corridor.png and the two scenarios flown, or None."""
+    from aotv_cosim.campaigns.corridor import run_corridor
+
+    with tempfile.TemporaryDirectory(prefix="aotv_corridor_") as tmp:
+        return run_corridor(scenario, Path(out) if out is not None else Path(tmp), lift_to_drag, tolerance,
+                            tuple(bracket))
 
 
 def _scenario(scenario, sets, start, stop, step):

@@ -351,6 +351,75 @@ def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
         _guard(body)
 
 
+@main.command()
+@click.argument("scenario", type=UserPath(dir_okay=False))
+@click.option("--grid", "grids", multiple=True, required=True, metavar="COMP.VAR=LOW:HIGH:N",
+              help="Values of a parameter: N evenly spaced from LOW to HIGH, or A,B,C (SI; repeatable: every "
+                   "combination is flown).")
+@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Local worker processes.")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-sweep].")
+def sweep(scenario, grids, workers, sets, out):
+    """Fly SCENARIO at every point of the grids: sweep.csv/.parquet (one row per point: the parameters,
+    outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
+    from aotv_cosim.campaigns.figures import display
+    from aotv_cosim.campaigns.sweep import run_sweep
+    from aotv_cosim.engine.scenario import parse_sets
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-sweep"
+        writable_folder(out_dir)
+        result = _with_builds(lambda: run_sweep(scenario, grids, out_dir, workers=workers,
+                                                sets=parse_sets(sets) or None))
+        units = result["units"]
+        shown = result["parameters"] + [c for c in ("outcome", "outcome.apogee_error", "outcome.dv_total")
+                                        if c in units]
+        click.echo("  ".join(f"{c} [{display(c, units[c])[0]}]" if units[c] else c for c in shown))
+        for row in result["rows"]:
+            cells = [row[c] if isinstance(row[c], str) else f"{float(row[c]) * display(c, units[c])[1]:.6g}"
+                     for c in shown]
+            click.echo("  ".join(cells))
+        click.echo(f"{result['runs']} runs in {result['wall_time_s']:.1f} s; sweep.csv, sweep.parquet (SI) and "
+                   f"sweep.png in {out_dir}")
+
+    with interrupts.deferred():
+        _guard(body)
+
+
+@main.command()
+@click.argument("scenario", type=UserPath(dir_okay=False))
+@click.option("--lift-to-drag", type=float, required=True, metavar="L/D",
+              help="Lift-to-drag ratio flown at full lift up and down (the vehicle's capability).")
+@click.option("--tolerance", type=float, default=100.0, show_default=True,
+              help="Bisection stops when a run's apogee error is this close to the band edge (m).")
+@click.option("--bracket", type=(float, float), default=(-0.08, -0.002), show_default=True,
+              metavar="STEEP SHALLOW", help="Entry flight-path angles searched (rad).")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-corridor].")
+def corridor(scenario, lift_to_drag, tolerance, bracket, out):
+    """The theoretical entry corridor of SCENARIO: the entry flight-path angles bounding capture at
+    full lift up (steep bound) and full lift down (shallow bound), by bisection on the capture
+    band; corridor.json, corridor.png."""
+    import math
+
+    from aotv_cosim.campaigns.corridor import run_corridor
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-corridor"
+        writable_folder(out_dir)
+        r = _with_builds(lambda: run_corridor(scenario, out_dir, lift_to_drag, tolerance, bracket))
+        for bound, how in (("steep", "full lift up"), ("shallow", "full lift down")):
+            b = r[bound]
+            click.echo(f"{bound} bound ({how}, L/D {lift_to_drag:g}): gamma0 = {b['gamma0']:.6g} rad "
+                       f"({math.degrees(b['gamma0']):.4f} deg), apogee error {b['apogee_error'] / 1e3:+.4f} km "
+                       f"(edge {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
+        click.echo(f"corridor width {r['width_rad']:.6g} rad ({r['width_deg']:.4f} deg); nominal gamma0 "
+                   f"{r['nominal_gamma0']:g} rad; corridor.json and corridor.png in {out_dir}")
+
+    with interrupts.deferred():
+        _guard(body)
+
+
 @main.command("export-ssp")
 @click.argument("scenario", type=UserPath(dir_okay=False))
 @click.option("-o", "--out", "out", required=True, type=UserPath(dir_okay=False),

@@ -8,6 +8,22 @@ from aotv_cosim.campaigns.report import ellipse_3sigma
 from aotv_cosim.campaigns.report_tables import values
 
 
+DISPLAY = {"m": ("km", 1e-3), "W/m2": ("W/cm2", 1e-4), "J/m2": ("kJ/cm2", 1e-7)}
+"""Display unit and factor (display value = SI value * factor) of the SI units engineers read
+otherwise: altitudes and apogees in km, heat rates in W/cm2, heat loads in kJ/cm2. Speeds of the
+vehicle (columns ending in .v) are shown in km/s; correction dv stays in m/s; the load factor is
+already in g. Files keep SI."""
+
+
+def display(name, unit) -> tuple:
+    """(display unit, factor) of a column in `unit` (SI): `DISPLAY`, km/s for a speed."""
+    if unit == "m/s" and name.endswith(".v"):
+        return "km/s", 1e-3
+    if unit == "1" and "load_factor" in name:
+        return "g", 1.0
+    return DISPLAY.get(unit, (unit, 1.0))
+
+
 def label(name, units) -> str:
     """Axis label: the column and its unit ('1' for dimensionless)."""
     unit = units.get(name, "")
@@ -83,6 +99,95 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
             ax.legend(fontsize=8)
             files.append(_save(fig, out_dir, "scatter.png"))
     return files, notes
+
+
+OUTCOME_COLORS = {"captured": "tab:green", "skip_out": "tab:orange", "undershoot": "tab:blue",
+                  "impact": "black", "failed": "tab:red"}
+"""Marker colour of each outcome class."""
+
+
+def sweep_plot(out_dir, rows, parameters, units, outcome_settings) -> str:
+    """sweep.png: for one swept parameter, the outcome metrics and extrema against it (one panel
+    each, display units, points coloured by outcome class, the capture band drawn on the apogee
+    error); for two or more, the class of every point over the first two parameters."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    classes = [r.get("outcome", r["status"]) for r in rows]
+    colors = [OUTCOME_COLORS.get(c, "tab:gray") for c in classes]
+    if len(parameters) >= 2:
+        a, b = parameters[:2]
+        fig, ax = plt.subplots(figsize=(6, 4.8))
+        for cls in dict.fromkeys(classes):
+            pick = [r for r, c in zip(rows, classes) if c == cls]
+            ax.scatter([r[a] for r in pick], [r[b] for r in pick], s=30, label=cls,
+                       color=OUTCOME_COLORS.get(cls, "tab:gray"))
+        ax.set_xlabel(label(a, units), fontsize=9)
+        ax.set_ylabel(label(b, units), fontsize=9)
+        ax.legend(fontsize=8)
+        axes_style(ax)
+        return _save(fig, out_dir, "sweep.png")
+    x_name = parameters[0]
+    panels = [n for n in ("outcome.apogee_error", "outcome.dv_total", "min.vehicle.h", "max.vehicle.qdot",
+                          "max.vehicle.load_factor", "outcome.heat_load") if n in units]
+    panels = panels or [n for n in units if n.startswith(("min.", "max."))][:4]
+    fig, axes = _grid(plt, len(panels))
+    x = np.array([float(r[x_name]) for r in rows])
+    for ax, name in zip(axes, panels):
+        shown, factor = display(name, units.get(name, ""))
+        y = np.array([float(r[name]) for r in rows]) * factor
+        finite = np.isfinite(y)
+        ax.plot(x[finite], y[finite], "-", color="0.7", lw=1, zorder=1)
+        ax.scatter(x[finite], y[finite], c=[c for c, f in zip(colors, finite) if f], s=22, zorder=2)
+        if name == "outcome.apogee_error" and outcome_settings is not None:
+            band = float(outcome_settings.get("band", 10e3)) * factor
+            ax.axhspan(-band, band, color="tab:green", alpha=0.15, zorder=0, label="capture band")
+            ax.legend(fontsize=7)
+        ax.set_xlabel(label(x_name, units), fontsize=8)
+        ax.set_ylabel(f"{name} [{shown}]", fontsize=8)
+        axes_style(ax)
+    handles = [plt.Line2D([], [], marker="o", ls="", color=OUTCOME_COLORS.get(c, "tab:gray"), label=c)
+               for c in dict.fromkeys(classes)]
+    fig.legend(handles=handles, loc="upper right", fontsize=7, ncol=len(handles))
+    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    fig.savefig(out_dir / "sweep.png", dpi=90)
+    plt.close(fig)
+    return "sweep.png"
+
+
+def corridor_plot(out_dir, result) -> str:
+    """corridor.png: apogee error (km) against the entry flight-path angle (deg) of the runs
+    flown at full lift up and full lift down, the capture band, and the corridor between the
+    two bounds shaded, its width in the title."""
+    import math
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.6))
+    band = result["band_m"] / 1e3
+    ax.axhspan(-band, band, color="tab:green", alpha=0.15, label=f"capture band +-{band:g} km")
+    for bound, name, color in (("steep", "full lift up", "tab:blue"), ("shallow", "full lift down", "tab:red")):
+        points = sorted((g, e) for g, e in result[bound]["points"] if math.isfinite(e))
+        ax.plot([math.degrees(g) for g, _ in points], [e / 1e3 for _, e in points], "o-", ms=3, lw=1,
+                color=color, label=f"{name} (L/D = {result['lift_to_drag']:g})")
+        ax.axvline(math.degrees(result[bound]["gamma0"]), color=color, ls="--", lw=1)
+    ax.axvspan(math.degrees(result["steep"]["gamma0"]), math.degrees(result["shallow"]["gamma0"]),
+               color="0.85", zorder=0, label="corridor")
+    ax.axvline(math.degrees(result["nominal_gamma0"]), color="black", lw=1, label="nominal entry")
+    ax.set_ylim(-8 * band, 8 * band)
+    ax.set_xlabel("entry flight-path angle gamma0 [deg]", fontsize=9)
+    ax.set_ylabel("exit apogee error [km]", fontsize=9)
+    ax.set_title(f"corridor {math.degrees(result['steep']['gamma0']):.4f} ... "
+                 f"{math.degrees(result['shallow']['gamma0']):.4f} deg, width {result['width_deg']:.4f} deg "
+                 f"(bisection to +-{result['tolerance_m']:g} m of the band edge)", fontsize=8)
+    axes_style(ax)
+    ax.legend(fontsize=7, loc="lower right")
+    return _save(fig, out_dir, "corridor.png")
 
 
 def _grid(plt, n):
