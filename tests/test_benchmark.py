@@ -44,7 +44,7 @@ def test_cli_benchmark_scorecard_rows_and_report(tmp_path):
     folder = _small_set(tmp_path / "set", ["time_linear", "npc"])
     result = CliRunner().invoke(main, ["benchmark", str(folder), "--runs", "3", "--out", str(tmp_path / "o")])
     assert result.exit_code == 0, result.output
-    assert "capture_rate [%]" in result.output and "apogee_error_p50 [m]" in result.output
+    assert "capture_rate [%]" in result.output and "apogee_error_p50 [km]" in result.output  # display units
     out = tmp_path / "o"
     with open(out / "scorecard.csv") as f:
         cards = {r["law"]: r for r in csv.DictReader(f)}

@@ -247,7 +247,8 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
         names = names or ["law"] + list(rows[0])
         units = units or {"law": "", **record["units"]}
         every_row += [{"law": law, **r} for r in rows]
-    return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units)
+    band = load_scenario(next(iter(flown.values()))).outcome.get("band", 10e3)
+    return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band))
 
 
 def _fly(law, path, runs, out, workers, seed, scheduler, progress):
@@ -269,7 +270,7 @@ def _fly(law, path, runs, out, workers, seed, scheduler, progress):
     return rows, record
 
 
-def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units) -> dict:
+def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, band) -> dict:
     from aotv_cosim.campaigns import benchmark_report
 
     units_of_scores = dict(score_columns())
@@ -280,7 +281,7 @@ def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names,
     write_parquet(every_row, names, out / "rows.parquet", units)
     _write_rows_csv(out / "rows.csv", every_row, names)
     result["plots"] = benchmark_report.plots(out, {law: [r for r in every_row if r["law"] == law]
-                                                   for law in summaries})
+                                                   for law in summaries}, band)
     (out / "report.md").write_text(benchmark_report.markdown(result, cards, units_of_scores))
     write_json_atomically(out / "scorecard.json", result)
     return result
