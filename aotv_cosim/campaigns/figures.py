@@ -1,5 +1,7 @@
 """Campaign plots a GNC engineer reads: histograms of chosen columns, inputs against outputs, and
-the exit-state scatter with its 3-sigma ellipse drawn under the points. Every axis is labelled
+the exit-state scatter with its 3-sigma ellipse outlined under the points (histograms of the two
+exit values when only one value is dispersed: the ellipse would be degenerate); the sweep and
+corridor plots. Every axis is labelled
 with the column and its SI unit; ticks are limited in number and never offset."""
 
 import numpy as np
@@ -89,7 +91,9 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
         at = "exit" if scenario.stop_conditions else "final"
         a, b = (f"{at}.{s}" for s in scenario.scatter)
         x, y = _pairs(rows, a, b)
-        if len(x) > 2:
+        if len(x) > 2 and len(scenario.dispersions) < 2:
+            files.append(_exit_histograms(plt, out_dir, (a, x), (b, y), units))
+        elif len(x) > 2:
             fig, ax = plt.subplots(figsize=(5.5, 4.5))
             ax.plot(*ellipse_3sigma(x, y), "r-", lw=1.2, zorder=1, label="3-sigma ellipse")
             ax.plot(x, y, ".", ms=3, alpha=0.7, zorder=2, label=f"{len(x)} runs")
@@ -104,6 +108,23 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
 OUTCOME_COLORS = {"captured": "tab:green", "skip_out": "tab:orange", "undershoot": "tab:blue",
                   "impact": "black", "failed": "tab:red"}
 """Marker colour of each outcome class."""
+
+
+def _exit_histograms(plt, out_dir, first, second, units) -> str:
+    """scatter.png for a campaign with one dispersed value: the exit pair then lies on a curve,
+    whose 3-sigma ellipse would be degenerate, so each value gets a histogram with its 0.135 and
+    99.865 percentiles marked."""
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    for ax, (name, x) in zip(axes, (first, second)):
+        ax.hist(x, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
+        for p in (0.135, 99.865):
+            ax.axvline(np.percentile(x, p), color="tab:red", lw=1, ls="--")
+        ax.set_xlabel(label(name, units), fontsize=8)
+        ax.set_ylabel("runs", fontsize=8)
+        axes_style(ax)
+    axes[0].set_title("one dispersed value: histograms (dashed: 0.135 / 99.865 percentiles)", fontsize=8,
+                      loc="left")
+    return _save(fig, out_dir, "scatter.png")
 
 
 def sweep_plot(out_dir, rows, parameters, units, outcome_settings) -> str:
