@@ -42,15 +42,16 @@ def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots
 
 
 def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None, set=None,
-               start=None, stop=None) -> Campaign:
+               start=None, stop=None, keep_series=False) -> Campaign:
     """Run `runs` dispersed runs of a scenario file over its declared dispersions.
 
     workers: local processes (default: one per CPU this process may use); scheduler: a Dask
     scheduler address or distributed.Client instead; seed: the campaign seed (run k's draws
     depend only on it and k). out: the campaign folder (rows.csv, rows.parquet, summary.json,
     plots), or None for a temporary one that is removed. A loaded Scenario is run from its file,
-    since every worker loads it itself. Returns the rows as a DataFrame with units and the
-    statistics.
+    since every worker loads it itself. keep_series: also keep every run's recorded signals
+    (about 200 rows a run) in out/series.parquet and draw trajectories.png. Returns the rows as a
+    DataFrame with units and the statistics.
     """
     import pandas as pd
 
@@ -65,7 +66,7 @@ def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None
         folder = Path(out) if out is not None else Path(tmp)
         summary = run_campaign(path, runs, folder, workers=workers, seed=seed, scheduler=scheduler,
                                sets=set or None, start=start, stop=stop, progress=False,
-                               make_plots=out is not None)
+                               make_plots=out is not None, keep_series=keep_series)
         rows = pd.read_parquet(folder / "rows.parquet")
     return Campaign(summary, rows, out=Path(out) if out is not None else None)
 

@@ -277,8 +277,10 @@ def build_fmus(sources, out):
 @click.option("--out", type=UserPath(), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--keep-series", is_flag=True, help="Keep every run's recorded signals (about 200 rows a run) in "
+                                                  "series.parquet and draw the trajectory overlay.")
 @_time_options
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep_series, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report_tables import console_table
@@ -293,7 +295,8 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
             check_reachable(scheduler)
         summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, resume=resume,
-                                                    sets=parse_sets(sets) or None, start=start, stop=stop))
+                                                    sets=parse_sets(sets) or None, start=start, stop=stop,
+                                                    keep_series=keep_series))
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
