@@ -2,7 +2,8 @@
 the exit-state scatter with its 3-sigma ellipse outlined under the points (histograms of the two
 exit values when only one value is dispersed: the ellipse would be degenerate); the sweep and
 corridor plots. Every axis is labelled
-with the column and its SI unit; ticks are limited in number and never offset."""
+with the column and its unit, in display units (km, km/s, W/cm2, kJ/cm2, g: `display`) while the
+files keep SI; ticks are limited in number and never offset."""
 
 import numpy as np
 
@@ -30,6 +31,12 @@ def label(name, units) -> str:
     """Axis label: the column and its unit ('1' for dimensionless)."""
     unit = units.get(name, "")
     return f"{name} [{unit}]" if unit else name
+
+
+def shown_label(name, units) -> str:
+    """Axis label in display units (`display`): the column and the unit its values are drawn in."""
+    shown = display(name, units.get(name, ""))[0]
+    return f"{name} [{shown}]" if shown else name
 
 
 def axes_style(ax):
@@ -72,8 +79,9 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
     if drawn:
         fig, axes = _grid(plt, len(drawn))
         for ax, (name, x) in zip(axes, drawn):
-            ax.hist(x, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
-            ax.set_xlabel(label(name, units), fontsize=8)
+            ax.hist(x * display(name, units.get(name, ""))[1], bins=min(30, max(5, len(x) // 5)),
+                    color="tab:blue", alpha=0.8)
+            ax.set_xlabel(shown_label(name, units), fontsize=8)
             ax.set_ylabel("runs", fontsize=8)
             axes_style(ax)
         files.append(_save(fig, out_dir, "histograms.png"))
@@ -82,9 +90,9 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
     if pairs:
         fig, axes = _grid(plt, len(pairs))
         for ax, (a, b, x, y) in zip(axes, pairs):
-            ax.plot(x, y, ".", ms=3, alpha=0.7)
-            ax.set_xlabel(label(a, units), fontsize=8)
-            ax.set_ylabel(label(b, units), fontsize=8)
+            ax.plot(x * display(a, units.get(a, ""))[1], y * display(b, units.get(b, ""))[1], ".", ms=3, alpha=0.7)
+            ax.set_xlabel(shown_label(a, units), fontsize=8)
+            ax.set_ylabel(shown_label(b, units), fontsize=8)
             axes_style(ax)
         files.append(_save(fig, out_dir, "versus.png"))
     if len(scenario.scatter) == 2:
@@ -95,10 +103,12 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
             files.append(_exit_histograms(plt, out_dir, (a, x), (b, y), units))
         elif len(x) > 2:
             fig, ax = plt.subplots(figsize=(5.5, 4.5))
-            ax.plot(*ellipse_3sigma(x, y), "r-", lw=1.2, zorder=1, label="3-sigma ellipse")
-            ax.plot(x, y, ".", ms=3, alpha=0.7, zorder=2, label=f"{len(x)} runs")
-            ax.set_xlabel(label(a, units), fontsize=9)
-            ax.set_ylabel(label(b, units), fontsize=9)
+            fx, fy = display(a, units.get(a, ""))[1], display(b, units.get(b, ""))[1]
+            ex, ey = ellipse_3sigma(x, y)
+            ax.plot(ex * fx, ey * fy, "r-", lw=1.2, zorder=1, label="3-sigma ellipse")
+            ax.plot(x * fx, y * fy, ".", ms=3, alpha=0.7, zorder=2, label=f"{len(x)} runs")
+            ax.set_xlabel(shown_label(a, units), fontsize=9)
+            ax.set_ylabel(shown_label(b, units), fontsize=9)
             axes_style(ax)
             ax.legend(fontsize=8)
             files.append(_save(fig, out_dir, "scatter.png"))
@@ -116,10 +126,11 @@ def _exit_histograms(plt, out_dir, first, second, units) -> str:
     99.865 percentiles marked."""
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
     for ax, (name, x) in zip(axes, (first, second)):
-        ax.hist(x, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
+        factor = display(name, units.get(name, ""))[1]
+        ax.hist(x * factor, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
         for p in (0.135, 99.865):
-            ax.axvline(np.percentile(x, p), color="tab:red", lw=1, ls="--")
-        ax.set_xlabel(label(name, units), fontsize=8)
+            ax.axvline(np.percentile(x, p) * factor, color="tab:red", lw=1, ls="--")
+        ax.set_xlabel(shown_label(name, units), fontsize=8)
         ax.set_ylabel("runs", fontsize=8)
         axes_style(ax)
     axes[0].set_title("one dispersed value: histograms (dashed: 0.135 / 99.865 percentiles)", fontsize=8,
