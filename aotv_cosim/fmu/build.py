@@ -1,4 +1,10 @@
-"""Build the FMUs of ``fmus_src`` with pythonfmu: content-hash cache, compliant, reproducible.
+"""Build the FMUs of ``fmus_src``, or a user's FMU source file from any folder, with pythonfmu:
+content-hash cache, compliant, reproducible.
+
+An FMU is named by its source (`fmu_source`): a name of fmus_src, or a path ending in .py (a
+user's law, see docs/writing-a-guidance-law.md; `check_source` imports it apart and returns its
+class, reporting the file and line of a failure; canGetAndSetFMUstate is declared true only for
+an AotvSlave, whose state snapshot the runtime provides).
 
 Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the guidance laws and
 the adapter base classes) so it runs where aotv-cosim is not installed. The build then rewrites
