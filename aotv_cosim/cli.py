@@ -385,6 +385,9 @@ def sweep(scenario, grids, workers, sets, out):
             click.echo("  ".join(cells))
         click.echo(f"{result['runs']} runs in {result['wall_time_s']:.1f} s; sweep.csv, sweep.parquet (SI) and "
                    f"sweep.png in {out_dir}")
+        if result["status"] == "interrupted":
+            click.echo(f"  interrupted after {result['runs']} of {result['points']} points: those are kept")
+            sys.exit(_exit_status(result))
 
     with interrupts.deferred():
         _guard(body)

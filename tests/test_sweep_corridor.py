@@ -48,3 +48,18 @@ def test_the_corridor_brackets_the_nominal_entry_and_each_bound_lands_on_the_ban
     assert (tmp_path / "corridor.png").is_file()
     with pytest.raises(InputError, match="does not cross"):
         aotv_cosim.corridor(PASS, lift_to_drag=5.0, bracket=(-0.03, -0.025))
+
+
+def test_a_law_scenario_with_other_dispersions_is_refused(tmp_path):
+    import json
+
+    from aotv_cosim.campaigns.benchmark import run_benchmark
+    from conftest import write_json
+
+    doc = json.loads(PASS.read_text())
+    doc["system"] = str((PASS.parent / doc["system"]).resolve())
+    doc.pop("dispersion_set")
+    doc["dispersions"] = {"vehicle.gamma0": {"distribution": "uniform", "low": -0.021, "high": -0.019}}
+    mine = write_json(tmp_path / "mine.json", doc)
+    with pytest.raises(InputError, match="its dispersions differ from those of time_linear.json"):
+        run_benchmark(PASS, 2, tmp_path / "o", laws=[mine], progress=False)

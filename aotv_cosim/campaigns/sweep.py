@@ -21,7 +21,9 @@ from aotv_cosim.campaigns.campaign import batches_of
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
+from aotv_cosim.engine import interrupts
 from aotv_cosim.engine.errors import InputError
+from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
 
@@ -56,8 +58,9 @@ def grid_points(grids) -> list:
 
 def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True) -> dict:
     """Fly the scenario at every grid point (`grids`: [(parameter, values)] or grid strings);
-    returns {"rows": [row dicts], "columns", "units", "parameters", "wall_time_s", "plots"} and
-    writes the files of the module docstring."""
+    returns {"rows": [row dicts], "columns", "units", "parameters", "status", "wall_time_s",
+    "plots"} and writes the files of the module docstring. SIGINT/SIGTERM stop it: the points
+    flown by then are written, status "interrupted"."""
     grids = [parse_grid(g) if isinstance(g, str) else g for g in grids]
     if not grids:
         raise InputError("no grid given", entry="--grid", fix="give at least one --grid COMP.VAR=LOW:HIGH:N")
@@ -84,27 +87,33 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
         from tqdm import tqdm
 
         bar = tqdm(total=len(work), unit="run", desc="sweep")
-    source = backends.local(str(scenario_path), sets, batches_of(work, workers), workers, names)
-    try:
-        for rows in source:
-            for row in rows:
-                found[row["run"]] = {**points[row["run"]], **{n: row[n] for n in keep if n not in parameters}}
+    status = "completed"
+    with interrupts.deferred():
+        source = backends.local(str(scenario_path), sets, batches_of(work, workers), workers, names)
+        try:
+            for rows in source:
+                for row in rows:
+                    found[row["run"]] = {**points[row["run"]], **{n: row[n] for n in keep if n not in parameters}}
+                if bar is not None:
+                    bar.update(len(rows))
+                if interrupts.received():
+                    raise Interrupted(interrupts.name())
+        except Interrupted:
+            status = "interrupted"  # the points flown so far are written below
+        finally:
+            source.close()
             if bar is not None:
-                bar.update(len(rows))
-    finally:
-        source.close()
-        if bar is not None:
-            bar.close()
+                bar.close()
     rows = [found[k] for k in sorted(found)]
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     write_parquet(rows, keep, out / "sweep.parquet", units)
     _write_csv(out / "sweep.csv", rows, keep, units)
-    result = {"scenario": str(scenario_path), "parameters": parameters, "grids": dict(grids),
-              "runs": len(rows), "wall_time_s": time.perf_counter() - t0, "units": units, "columns": keep}
+    result = {"status": status, "scenario": str(scenario_path), "parameters": parameters, "grids": dict(grids),
+              "runs": len(rows), "points": len(points), "wall_time_s": time.perf_counter() - t0, "units": units, "columns": keep}
     from aotv_cosim.campaigns.figures import sweep_plot
 
-    result["plots"] = [sweep_plot(out, rows, parameters, units, scenario.outcome)]
+    result["plots"] = [sweep_plot(out, rows, parameters, units, scenario.outcome)] if rows else []
     write_json_atomically(out / "sweep.json", result)
     return {**result, "rows": rows}
 
