@@ -63,3 +63,6 @@ def test_a_law_scenario_with_other_dispersions_is_refused(tmp_path):
     mine = write_json(tmp_path / "mine.json", doc)
     with pytest.raises(InputError, match="its dispersions differ from those of time_linear.json"):
         run_benchmark(PASS, 2, tmp_path / "o", laws=[mine], progress=False)
+    wiring = PASS.parent / doc["system"]
+    with pytest.raises(InputError, match="a wiring, not a scenario set; give it as --law"):
+        run_benchmark(wiring, 2, tmp_path / "o", progress=False)

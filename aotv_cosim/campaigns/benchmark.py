@@ -56,6 +56,9 @@ def scenarios_of(set_dir) -> list:
     give the same campaign columns. A set is a folder of scenarios or one scenario file. InputError
     for an empty or unusable set."""
     folder = set_path(set_dir)
+    if folder.is_file() and _is_wiring(folder):
+        raise InputError("a wiring, not a scenario set", file=folder,
+                         fix=f"give it as --law {folder.name}, with a set as SET (e.g. benchmark_seed000)")
     if folder.is_file():
         paths = [folder]
     elif not folder.is_dir():
