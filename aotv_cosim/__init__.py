@@ -1,6 +1,6 @@
 """aotv-cosim: FMI co-simulation for aeroassisted orbital transfer and entry guidance.
 
-The public Python API (``aotv_cosim.api``): ``run``, ``montecarlo``, ``describe`` and the
+The public Python API (``aotv_cosim.api``): ``run``, ``montecarlo``, ``benchmark``, ``sweep``, ``corridor``, ``describe`` and the
 ``Result`` they return; see the README's "From Python".
 
 This top-level module must stay import-free: the FMUs bundle ``aotv_cosim/__init__.py`` together
@@ -11,12 +11,12 @@ and must run where only numpy and scipy are installed. So the API is looked up o
 
 __version__ = "0.1.0"
 
-__all__ = ["run", "montecarlo", "describe", "Result", "__version__"]
+__all__ = ["run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "Result", "__version__"]
 
 
 def __getattr__(name):
     """The API names, imported on first use."""
-    if name in ("run", "montecarlo", "describe", "Result"):
+    if name in ("run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "Result"):
         from aotv_cosim import api
 
         return getattr(api, name)

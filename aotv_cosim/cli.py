@@ -116,6 +116,8 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         console.print_summary(summary, out_dir)
+        _print_outcome(summary)
+        _print_fmu_traceback(summary)
         if summary["status"] not in ENDED_CLEANLY:
             sys.exit(_exit_status(summary))
         if not all(r["passed"] for r in summary["expectations"]):
@@ -124,6 +126,30 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
 
     with interrupts.deferred():
         _guard(body)
+
+
+def _print_outcome(summary):
+    """The run's class and exit-orbit figures in display units (km, m/s), when it is classified."""
+    outcome = summary.get("outcome")
+    if outcome:
+        def km(name):
+            value = float(outcome[name])
+            return f"{value / 1e3:.6g} km" if value == value else "-"
+
+        click.echo(f"  outcome: {outcome['class']} ({outcome['reason']}); apogee {km('apogee')}, perigee "
+                   f"{km('perigee')}, apogee error {km('apogee_error')}, correction dv "
+                   f"{float(outcome['dv_total']):.5g} m/s (SI in summary.json)")
+
+
+def _print_fmu_traceback(summary):
+    """The Python traceback an FMU logged when it failed (its file and line), with --debug; else
+    a hint that it is there."""
+    trace = (summary.get("error_detail") or {}).get("traceback")
+    if trace and _Context.debug:
+        click.echo(trace, err=True)
+    elif trace:
+        click.echo("  the FMU's Python traceback is in summary.json (error_detail.traceback); "
+                   "--debug prints it", err=True)
 
 
 @main.command()
@@ -227,17 +253,20 @@ def describe(target):
 
 
 @main.command("build-fmus")
+@click.argument("sources", nargs=-1, metavar="[NAME|SOURCE.py]...")
 @click.option("--out", type=UserPath(file_okay=False), help="Put the FMUs here instead of the cache.")
-def build_fmus(out):
-    """Build every FMU of fmus_src (only those whose sources changed)."""
+def build_fmus(sources, out):
+    """Build the FMUs of fmus_src, or only the given ones: names of this package or your own FMU
+    sources (SOURCE.py, any folder; see docs/writing-a-guidance-law.md). Only changed sources are
+    rebuilt (content hash)."""
     from aotv_cosim.fmu import build as fmu_build
     from aotv_cosim.fmu.build_progress import BuildProgress
 
     def body():
-        names = fmu_build.available_fmus()
-        with BuildProgress(total=sum(fmu_build.needs_build(n, out) for n in names)) as progress:
-            for name in names:
-                progress.echo(f"{name}: {fmu_build.ensure_fmu(name, out)}")
+        refs = list(sources) or fmu_build.available_fmus()
+        with BuildProgress(total=sum(fmu_build.needs_build(r, out) for r in refs)) as progress:
+            for ref in refs:
+                progress.echo(f"{fmu_build.fmu_source(ref).stem}: {fmu_build.ensure_fmu(ref, out)}")
 
     _guard(body)
 
@@ -252,8 +281,10 @@ def build_fmus(out):
 @click.option("--out", type=UserPath(), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--keep-series", is_flag=True, help="Keep every run's recorded signals (about 200 rows a run) in "
+                                                  "series.parquet and draw the trajectory overlay.")
 @_time_options
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep_series, start, stop):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report_tables import console_table
@@ -268,7 +299,8 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
             check_reachable(scheduler)
         summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, resume=resume,
-                                                    sets=parse_sets(sets) or None, start=start, stop=stop))
+                                                    sets=parse_sets(sets) or None, start=start, stop=stop,
+                                                    keep_series=keep_series))
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
@@ -288,29 +320,111 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
 
 
 @main.command()
-@click.argument("scenario_set", metavar="SET", type=UserPath(file_okay=False))
+@click.argument("scenario_set", metavar="SET", type=UserPath())
+@click.option("--law", "laws", multiple=True, type=UserPath(exists=True, dir_okay=False), metavar="FILE",
+              help="Your law: a wiring (flown in SET's first scenario) or a scenario with SET's dispersions "
+                   "(repeatable).")
 @click.option("--runs", type=click.IntRange(min=1), default=1000, show_default=True, help="Runs per law.")
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
               help="Local worker processes.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
 @click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
-def benchmark(scenario_set, runs, workers, seed, scheduler, out):
-    """Fly every law (scenario) of SET through the same dispersions; write a scorecard."""
+@click.option("--refly", is_flag=True, help="Fly every law, even those whose stored rows could be reused.")
+def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
+    """Fly every law (scenario) of SET (a folder, one scenario file, or a shipped set by name:
+    benchmark_seed000) and each --law through the
+    same dispersions; write a scorecard. A law whose scenario, FMUs, dispersions, seed and N are
+    unchanged since an earlier benchmark is not flown again: its stored rows are reused."""
     from aotv_cosim.campaigns.benchmark import run_benchmark
     from aotv_cosim.campaigns.benchmark_report import console
     from aotv_cosim.campaigns.checks import check_reachable
 
     def body():
-        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).name}-benchmark"
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).stem}-benchmark"
         writable_folder(out_dir)
         if scheduler:
             check_reachable(scheduler)
         result = _with_builds(lambda: run_benchmark(scenario_set, runs, out_dir, workers=workers, seed=seed,
-                                                    scheduler=scheduler))
+                                                    scheduler=scheduler, laws=laws, echo=click.echo,
+                                                    reuse=not refly))
         click.echo(console(result["scorecard"], result["units"]))
-        click.echo(f"{len(result['scorecard'])} laws x {runs} runs in {result['wall_time_s']:.1f} s; scorecard.csv,"
+        flown = [law for law, info in result["laws"].items() if not info["reused"]]
+        click.echo(f"{len(result['scorecard'])} laws x {runs} runs ({len(flown)} flown now in "
+                   f"{result['wall_time_s']:.1f} s, {len(result['scorecard']) - len(flown)} reused); scorecard.csv,"
                    f" rows.csv, rows.parquet, report.md and plots in {out_dir}")
+
+    with interrupts.deferred():
+        _guard(body)
+
+
+@main.command()
+@click.argument("scenario", type=UserPath(dir_okay=False))
+@click.option("--grid", "grids", multiple=True, required=True, metavar="COMP.VAR=LOW:HIGH:N",
+              help="Values of a parameter: N evenly spaced from LOW to HIGH, or A,B,C (SI; repeatable: every "
+                   "combination is flown).")
+@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Local worker processes.")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-sweep].")
+def sweep(scenario, grids, workers, sets, out):
+    """Fly SCENARIO at every point of the grids: sweep.csv/.parquet (one row per point: the parameters,
+    outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
+    from aotv_cosim.campaigns.figures import display
+    from aotv_cosim.campaigns.sweep import run_sweep
+    from aotv_cosim.engine.scenario import parse_sets
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-sweep"
+        writable_folder(out_dir)
+        result = _with_builds(lambda: run_sweep(scenario, grids, out_dir, workers=workers,
+                                                sets=parse_sets(sets) or None))
+        units = result["units"]
+        shown = result["parameters"] + [c for c in ("outcome", "outcome.apogee_error", "outcome.dv_total")
+                                        if c in units]
+        click.echo("  ".join(f"{c} [{display(c, units[c])[0]}]" if units[c] else c for c in shown))
+        for row in result["rows"]:
+            cells = [row[c] if isinstance(row[c], str) else f"{float(row[c]) * display(c, units[c])[1]:.6g}"
+                     for c in shown]
+            click.echo("  ".join(cells))
+        click.echo(f"{result['runs']} runs in {result['wall_time_s']:.1f} s; sweep.csv, sweep.parquet (SI) and "
+                   f"sweep.png in {out_dir}")
+        if result["status"] == "interrupted":
+            click.echo(f"  interrupted after {result['runs']} of {result['points']} points: those are kept")
+            sys.exit(_exit_status(result))
+
+    with interrupts.deferred():
+        _guard(body)
+
+
+@main.command()
+@click.argument("scenario", type=UserPath(dir_okay=False))
+@click.option("--lift-to-drag", type=float, required=True, metavar="L/D",
+              help="Lift-to-drag ratio flown at full lift up and down (the vehicle's capability).")
+@click.option("--tolerance", type=float, default=100.0, show_default=True,
+              help="Bisection stops when a run's apogee error is this close to the band edge (m).")
+@click.option("--bracket", type=(float, float), default=(-0.08, -0.002), show_default=True,
+              metavar="STEEP SHALLOW", help="Entry flight-path angles searched (rad).")
+@click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-corridor].")
+def corridor(scenario, lift_to_drag, tolerance, bracket, out):
+    """The theoretical entry corridor of SCENARIO: the entry flight-path angles bounding capture at
+    full lift up (steep bound) and full lift down (shallow bound), by bisection on the capture
+    band; corridor.json, corridor.png."""
+    import math
+
+    from aotv_cosim.campaigns.corridor import run_corridor
+
+    def body():
+        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-corridor"
+        writable_folder(out_dir)
+        r = _with_builds(lambda: run_corridor(scenario, out_dir, lift_to_drag, tolerance, bracket))
+        for bound, how in (("steep", "full lift up"), ("shallow", "full lift down")):
+            b = r[bound]
+            click.echo(f"{bound} bound ({how}, L/D {lift_to_drag:g}): gamma0 = {b['gamma0']:.6g} rad "
+                       f"({math.degrees(b['gamma0']):.4f} deg), apogee error {b['apogee_error'] / 1e3:+.4f} km "
+                       f"(edge {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
+        click.echo(f"corridor width {r['width_rad']:.6g} rad ({r['width_deg']:.4f} deg); nominal gamma0 "
+                   f"{r['nominal_gamma0']:g} rad; corridor.json and corridor.png in {out_dir}")
 
     with interrupts.deferred():
         _guard(body)

@@ -14,12 +14,19 @@ import pyarrow.parquet as pq
 import pytest
 from click.testing import CliRunner
 
+from aotv_cosim.campaigns import benchmark
 from aotv_cosim.campaigns.benchmark import run_benchmark
 from aotv_cosim.cli import main
 from aotv_cosim.engine.errors import InputError
 from conftest import SCENARIOS, write_json
 
 BENCH = SCENARIOS / "benchmark_seed000"
+
+
+@pytest.fixture(autouse=True)
+def fresh_store(tmp_path, monkeypatch):
+    """Each test starts with no stored campaign rows (they would be reused, not flown)."""
+    monkeypatch.setattr(benchmark, "stored_rows_dir", lambda: tmp_path / "stored")
 
 
 def _small_set(folder, laws):
@@ -37,7 +44,7 @@ def test_cli_benchmark_scorecard_rows_and_report(tmp_path):
     folder = _small_set(tmp_path / "set", ["time_linear", "npc"])
     result = CliRunner().invoke(main, ["benchmark", str(folder), "--runs", "3", "--out", str(tmp_path / "o")])
     assert result.exit_code == 0, result.output
-    assert "capture_rate [%]" in result.output and "apogee_error_p50 [m]" in result.output
+    assert "capture_rate [%]" in result.output and "apogee_error_p50 [km]" in result.output  # display units
     out = tmp_path / "o"
     with open(out / "scorecard.csv") as f:
         cards = {r["law"]: r for r in csv.DictReader(f)}
@@ -80,6 +87,38 @@ def test_a_law_that_does_not_classify_or_records_other_columns_is_refused_before
     assert not (tmp_path / "o").exists()
 
 
+def test_one_law_benchmark_flies_the_law_and_reuses_the_stored_rows_of_the_others(tmp_path):
+    folder = _small_set(tmp_path / "set", ["time_linear", "robust"])
+    mine = write_json(tmp_path / "my_law.json", json.loads((SCENARIOS / "systems" / "aotv_time_linear.json").read_text()))
+    result = CliRunner().invoke(main, ["benchmark", str(folder), "--law", str(mine), "--runs", "3",
+                                       "--out", str(tmp_path / "o")])
+    assert result.exit_code == 0, result.output
+    assert "time_linear: flying 3 runs" in result.output
+    # my_law is time_linear's wiring under another name: the same campaign, so its rows are reused
+    assert "my_law: 3 stored runs reused" in result.output
+    rows = pq.read_table(tmp_path / "o" / "rows.parquet").to_pylist()
+    by_law = {law: [{k: v for k, v in r.items() if k != "law"} for r in rows if r["law"] == law]
+              for law in ("time_linear", "my_law")}
+    assert repr(by_law["my_law"]) == repr(by_law["time_linear"])
+    flown = sorted((tmp_path / "o").iterdir())
+    again = run_benchmark(folder, 3, tmp_path / "o", laws=[mine], progress=False)
+    assert {law: info["reused"] for law, info in again["laws"].items()} == {
+        "robust": True, "time_linear": True, "my_law": True}
+    assert repr(pq.read_table(tmp_path / "o" / "rows.parquet").to_pylist()) == repr(rows)
+    assert sorted((tmp_path / "o").iterdir()) == flown
+    other_n = run_benchmark(folder / "robust.json", 2, tmp_path / "o2", laws=[mine], progress=False)
+    assert [c["law"] for c in other_n["scorecard"]] == ["robust", "my_law"]
+    assert not any(info["reused"] for info in other_n["laws"].values())  # N changed: flown
+    assert (tmp_path / "o2" / "my_law" / "rows.parquet").is_file()
+
+
+def test_a_law_named_like_one_of_the_set_is_refused(tmp_path):
+    folder = _small_set(tmp_path / "set", ["time_linear"])
+    clash = write_json(tmp_path / "time_linear.json", json.loads((SCENARIOS / "systems" / "aotv_robust.json").read_text()))
+    with pytest.raises(InputError, match="a law named 'time_linear' is already in the set"):
+        run_benchmark(folder, 2, tmp_path / "o", laws=[clash], progress=False)
+
+
 def _free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -105,7 +144,7 @@ def _cluster_rows(folder, runs, out):
             client.wait_for_workers(2, timeout=120)
             pids = set(client.run(os.getpid).values())
             assert len(pids) == 2 and os.getpid() not in pids  # two real worker processes
-        result = run_benchmark(folder, runs, out, seed=11, scheduler=address, progress=False)
+        result = run_benchmark(folder, runs, out, seed=11, scheduler=address, progress=False, reuse=False)
         assert all(card["cpu_per_run"] is None for card in result["scorecard"])  # not seen from here
         return pq.read_table(out / "rows.parquet").to_pylist()
     finally:
@@ -122,7 +161,7 @@ def _local_and_cluster(tmp_path, laws, runs):
     folder = _small_set(tmp_path / "set", laws)
     run_benchmark(folder, runs, tmp_path / "local", workers=2, seed=11, progress=False)
     local = pq.read_table(tmp_path / "local" / "rows.parquet").to_pylist()
-    run_benchmark(folder, runs, tmp_path / "one", workers=1, seed=11, progress=False)
+    run_benchmark(folder, runs, tmp_path / "one", workers=1, seed=11, progress=False, reuse=False)
     assert repr(pq.read_table(tmp_path / "one" / "rows.parquet").to_pylist()) == repr(local)  # 1 = 2 workers
     cluster = _cluster_rows(folder, runs, tmp_path / "dask")
     assert repr(local) == repr(cluster)  # every value the same (repr: nan equals nan)

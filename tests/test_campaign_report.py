@@ -31,7 +31,7 @@ def test_console_table_has_units_and_outcome_counts():
     text = console_table(table, {"max.vehicle.qdot": "W/m2"}, {"captured": 3, "impact": 1})
     head, line, counts = text.splitlines()
     assert head.split()[:4] == ["column", "unit", "n", "mean"] and "p99.865" in head
-    assert line.split()[:4] == ["max.vehicle.qdot", "W/m2", "3", "2"]
+    assert line.split()[:4] == ["max.vehicle.qdot", "W/cm2", "3", "0.0002"]  # display units; files stay SI
     assert counts == "outcomes: captured 3 (75.0 %), impact 1 (25.0 %)"
 
 
@@ -47,7 +47,7 @@ def test_chosen_columns_in_summary_report_and_histograms(tmp_path):
                      versus=[["dispersed.atmosphere.rho_ref", "max.vehicle.qdot"]])
     result = CliRunner().invoke(main, ["montecarlo", str(path), "--runs", "6", "--out", str(tmp_path / "o")])
     assert result.exit_code == 0, result.output
-    assert "max.vehicle.qdot" in result.output and "W/m2" in result.output and "outcomes: captured" in result.output
+    assert "max.vehicle.qdot" in result.output and "W/cm2" in result.output and "outcomes: captured" in result.output
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert set(summary["three_sigma"]) == {"dispersed.atmosphere.rho_ref", "max.vehicle.qdot", "exit.vehicle.h"}
     assert sum(summary["outcomes"].values()) == 6

@@ -70,7 +70,7 @@ def _finished(futures):
         yield from done
 
 
-def local(scenario_path, sets, batches, workers, columns, times=None):
+def local(scenario_path, sets, batches, workers, columns, times=None, keep_series=False):
     """Yield row lists from a pool of `workers` processes (times: (start, stop) overrides or None).
 
     A crash breaks the whole pool and fails every batch in flight, so a failed batch is retried
@@ -89,7 +89,7 @@ def local(scenario_path, sets, batches, workers, columns, times=None):
                 continue
             pool = _pool(size)
             try:
-                futures = {pool.submit(run_batch, scenario_path, sets, b, times): b for b in group}
+                futures = {pool.submit(run_batch, scenario_path, sets, b, times, keep_series): b for b in group}
                 for future in _finished(futures):
                     batch = futures[future]
                     try:
@@ -130,7 +130,8 @@ def _completed(client, futures, patience):
                                   "(see their logs), or run on local workers")
 
 
-def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO_WORKER_PATIENCE):
+def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO_WORKER_PATIENCE,
+         keep_series=False):
     """Yield row lists from the Dask scheduler at `address` (a Client object is accepted too);
     fail after `patience` s without a worker (`_completed`)."""
     from distributed import Client
@@ -139,7 +140,7 @@ def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO
     try:
         queue = list(batches)
         while queue:
-            futures = {client.submit(run_batch, scenario_path, sets, b, times, pure=False): tuple(b)
+            futures = {client.submit(run_batch, scenario_path, sets, b, times, keep_series, pure=False): tuple(b)
                        for b in queue}
             queue = []
             for future in _completed(client, futures, patience):

@@ -13,6 +13,8 @@ CPU per run is the CPU time (user + system) of the local worker processes, read 
 by the runs; on a Dask cluster the workers' CPU is not seen from here and it is None.
 """
 
+import hashlib
+import json
 import resource
 from pathlib import Path
 
@@ -39,27 +41,152 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
 whose value is finite (an unbound exit orbit has no finite apogee error)."""
 
 
+def set_path(set_dir) -> Path:
+    """SET as given when it exists, else the set of that name shipped with the package (e.g.
+    "benchmark_seed000": scenarios/benchmark_seed000 of the installed package)."""
+    from aotv_cosim.studies.shipped import scenarios_dir
+
+    given = Path(set_dir)
+    shipped = scenarios_dir() / given
+    return shipped if not given.exists() and not given.is_absolute() and shipped.exists() else given
+
+
 def scenarios_of(set_dir) -> list:
     """The set's scenario files, sorted, checked before any run: each classifies its runs and all
-    give the same campaign columns. InputError for an empty or unusable set."""
-    folder = Path(set_dir)
-    if not folder.is_dir():
-        raise InputError("not a folder", file=folder,
-                         fix="give a folder of scenario files, one law each (e.g. scenarios/benchmark_seed000)")
-    paths = sorted(folder.glob("*.json"))
+    give the same campaign columns. A set is a folder of scenarios or one scenario file. InputError
+    for an empty or unusable set."""
+    folder = set_path(set_dir)
+    if folder.is_file() and _is_wiring(folder):
+        raise InputError("a wiring, not a scenario set", file=folder,
+                         fix=f"give it as --law {folder.name}, with a set as SET (e.g. benchmark_seed000)")
+    if folder.is_file():
+        paths = [folder]
+    elif not folder.is_dir():
+        raise InputError("not found", file=folder,
+                         fix="give a folder of scenario files, one law each, one scenario file, or the "
+                             "name of a shipped set (benchmark_seed000)")
+    else:
+        paths = sorted(folder.glob("*.json"))
     if not paths:
         raise InputError("the folder holds no scenario file", file=folder, fix="put one *.json scenario per law in it")
+    _check_alike([(path, load_scenario(path)) for path in paths])
+    return paths
+
+
+def _check_alike(loaded) -> None:
+    """InputError unless every (path, scenario) classifies its runs and gives the first's columns."""
     first = None
-    for path in paths:
-        scenario = load_scenario(path)
+    for path, scenario in loaded:
         if scenario.outcome is None:
             raise InputError("the scenario does not classify its runs", file=path, entry="montecarlo",
                              fix='add "montecarlo": {"outcome": {}} (and record the vehicle h, v, gamma)')
-        first = first or columns(scenario)
-        if columns(scenario) != first:
-            raise InputError(f"its campaign columns differ from those of {paths[0].name}", file=path,
+        first = first or (loaded[0][0], columns(scenario))
+        if columns(scenario) != first[1]:
+            raise InputError(f"its campaign columns differ from those of {first[0].name}", file=path,
                              entry="record", fix="record the same signals and disperse the same values in every law")
-    return paths
+
+
+def law_scenarios(set_dir, law_files, work_dir) -> dict:
+    """{law: scenario path}: the set's laws (file names), then each of `law_files` flown through
+    the set's dispersions. A law file is a wiring (the set's first scenario is flown with its
+    "system" replaced by it: written to work_dir/laws/<law>.json) or a scenario whose dispersions
+    and columns are the set's. InputError for a clash of names or a law that does not fit."""
+    paths = scenarios_of(set_dir)
+    laws = {path.stem: path for path in paths}
+    template = paths[0]
+    reference = load_scenario(template)
+    for law_file in map(Path, law_files):
+        law = law_file.stem
+        if law in laws:
+            raise InputError(f"a law named {law!r} is already in the set", file=law_file,
+                             fix="rename the law file")
+        if not law_file.is_file():
+            raise InputError("file not found", file=law_file, entry="--law",
+                             fix="give a wiring or scenario file of your law")
+        scenario_path = _flown_with(template, law_file, work_dir / "laws") if _is_wiring(law_file) \
+            else law_file.resolve()
+        scenario = load_scenario(scenario_path)
+        if [d.__dict__ for d in scenario.dispersions] != [d.__dict__ for d in reference.dispersions]:
+            raise InputError(f"its dispersions differ from those of {template.name}", file=law_file,
+                             entry="dispersions", fix=f"use the dispersion_set of {template.name}, or give "
+                                                      "the law's wiring instead of a scenario")
+        _check_alike([(template, reference), (law_file, scenario)])
+        laws[law] = scenario_path
+    return laws
+
+
+def _is_wiring(path: Path) -> bool:
+    """True if the JSON file `path` is a wiring (it has components), not a scenario."""
+    from aotv_cosim.engine.documents import strict_json
+
+    try:
+        doc = strict_json(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False  # the scenario loader reports what is wrong with it
+    return isinstance(doc, dict) and "components" in doc
+
+
+def _flown_with(template: Path, wiring: Path, folder: Path) -> Path:
+    """The template scenario with its "system" replaced by `wiring`, written to folder/<law>.json
+    (every relative path of the template made absolute)."""
+    from aotv_cosim.engine.documents import strict_json
+
+    doc = strict_json(template.read_text(encoding="utf-8"))
+    doc.pop("$schema", None)
+    if "dispersion_set" in doc:
+        doc["dispersion_set"] = str((template.parent / doc["dispersion_set"]).resolve())
+    doc["system"] = str(wiring.resolve())
+    doc["description"] = f"{wiring.stem}: the scenario {template.resolve()} flown by the wiring {wiring.resolve()}"
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{wiring.stem}.json"
+    path.write_text(json.dumps(doc, indent=2) + "\n")
+    return path.resolve()
+
+
+def campaign_key(scenario_path, runs: int, seed: int) -> str:
+    """SHA-256 of what a law's campaign rows depend on: the scenario's settings (not its file
+    paths or description), each component's FMU GUID, parameter values and the connections,
+    the dispersions, the seed and N. Equal keys give equal rows, so stored rows are reused."""
+    from aotv_cosim.engine.documents import strict_json
+
+    scenario = load_scenario(scenario_path)
+    doc = strict_json(Path(scenario_path).read_text(encoding="utf-8"))
+    settings = {k: v for k, v in doc.items() if k not in ("$schema", "description", "system", "dispersion_set")}
+    system = scenario.system
+    key = {"scenario": settings, "runs": runs, "seed": seed,
+           "components": {name: {"guid": c.fmu.guid, "parameters": c.parameters}
+                          for name, c in system.components.items()},
+           "connections": sorted(map(str, system.connections)),
+           "dispersions": [d.__dict__ for d in scenario.dispersions]}
+    return hashlib.sha256(json.dumps(key, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def stored_rows_dir() -> Path:
+    """Where finished law campaigns are kept for reuse: <FMU cache>/benchmark-rows."""
+    from aotv_cosim.fmu.build import cache_dir
+
+    return cache_dir() / "benchmark-rows"
+
+
+def _stored(key):
+    """(rows, record) of a stored campaign with this key, or None."""
+    import pyarrow.parquet as pq
+
+    base = stored_rows_dir() / key[:32]
+    try:
+        record = json.loads(base.with_suffix(".json").read_text())
+        rows = pq.read_table(base.with_suffix(".parquet")).to_pylist()
+    except (OSError, ValueError):
+        return None
+    return (rows, record) if record.get("key") == key else None
+
+
+def _store(key, rows, names, record) -> None:
+    """Keep a finished campaign's rows (Parquet) and record (JSON: card, units, wall time)."""
+    base = stored_rows_dir() / key[:32]
+    base.parent.mkdir(parents=True, exist_ok=True)
+    write_parquet(rows, names, base.with_suffix(".parquet"), record["units"])
+    write_json_atomically(base.with_suffix(".json"), {**record, "key": key})
 
 
 def _cpu_seconds():
@@ -89,38 +216,75 @@ def score(law, rows, cpu_per_run) -> dict:
     return card
 
 
-def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, progress=True) -> dict:
-    """Fly every scenario of the set for `runs` runs; returns (and writes as scorecard.json) the
-    set, runs, seed, "scorecard" (one dict per law), its "units", "wall_time_s" of all the
-    campaigns, "laws" ({law: {scenario, wall_time_s}}) and "plots"."""
+def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, progress=True, laws=(),
+                  echo=None, reuse=True) -> dict:
+    """Fly every law of the set, and each of the `laws` files (`law_scenarios`), for `runs` runs;
+    returns (and writes as scorecard.json) the set, runs, seed, "scorecard" (one dict per law),
+    its "units", "wall_time_s" of the campaigns flown now, "laws" ({law: {scenario, wall_time_s,
+    reused}}) and "plots".
+
+    A law whose scenario, FMUs, dispersions, seed and N are those of a campaign finished before
+    (`campaign_key`) is not flown again: its rows are read from `stored_rows_dir()` (unless
+    `reuse` is False; every campaign flown to the end is stored). echo(text),
+    if given, is told which laws are reused and which are flown."""
+    out = Path(out_dir)
+    flown = law_scenarios(set_dir, laws, out)  # every law checked before anything is written
+    out.mkdir(parents=True, exist_ok=True)
+    cards, summaries, every_row, names, units = [], {}, [], None, None
+    for law, path in flown.items():
+        key = campaign_key(path, runs, seed)
+        stored = _stored(key) if reuse else None
+        if stored is not None:
+            rows, record = stored
+            if echo:
+                echo(f"{law}: {runs} stored runs reused (same scenario, FMUs, dispersions, seed and N)")
+            summaries[law] = {"scenario": str(path), "wall_time_s": 0.0, "reused": True}
+        else:
+            if echo:
+                echo(f"{law}: flying {runs} runs")
+            rows, record = _fly(law, path, runs, out, workers, seed, scheduler, progress)
+            summaries[law] = {"scenario": str(path), "wall_time_s": record["wall_time_s"], "reused": False}
+            if record["status"] == "completed" and len(rows) == runs:
+                _store(key, rows, list(rows[0]), record)
+        cards.append({**record["card"], "law": law})
+        names = names or ["law"] + list(rows[0])
+        units = units or {"law": "", **record["units"]}
+        every_row += [{"law": law, **r} for r in rows]
+    band = load_scenario(next(iter(flown.values()))).outcome.get("band", 10e3)
+    return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band))
+
+
+def _fly(law, path, runs, out, workers, seed, scheduler, progress):
+    """(rows, record) of a campaign of the law flown now into out/<law> (an earlier benchmark's
+    campaign there is replaced)."""
+    import shutil
+
     import pyarrow.parquet as pq
 
+    folder = out / law
+    if (folder / "campaign.json").is_file():
+        shutil.rmtree(folder)
+    cpu0 = _cpu_seconds()
+    summary = run_campaign(path, runs, folder, workers=workers, seed=seed, scheduler=scheduler, progress=progress)
+    cpu = (_cpu_seconds() - cpu0) / runs if scheduler is None else None
+    rows = pq.read_table(folder / "rows.parquet").to_pylist()
+    record = {"card": score(law, rows, cpu), "units": summary["units"], "wall_time_s": summary["wall_time_s"],
+              "status": summary["status"]}
+    return rows, record
+
+
+def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, band) -> dict:
     from aotv_cosim.campaigns import benchmark_report
 
-    paths = scenarios_of(set_dir)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    cards, laws, every_row, names = [], {}, [], None
-    for path in paths:
-        law = path.stem
-        cpu0 = _cpu_seconds()
-        summary = run_campaign(path, runs, out / law, workers=workers, seed=seed, scheduler=scheduler,
-                               progress=progress)
-        cpu = (_cpu_seconds() - cpu0) / runs if scheduler is None else None
-        rows = pq.read_table(out / law / "rows.parquet").to_pylist()
-        cards.append(score(law, rows, cpu))
-        laws[law] = summary
-        names = names or ["law"] + list(rows[0])
-        units = {"law": "", **summary["units"]}
-        every_row += [{"law": law, **r} for r in rows]
     units_of_scores = dict(score_columns())
-    result = {"set": str(Path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
-              "units": units_of_scores, "wall_time_s": sum(s["wall_time_s"] for s in laws.values()),
-              "laws": {k: {"scenario": s["scenario"], "wall_time_s": s["wall_time_s"]} for k, s in laws.items()}}
+    result = {"set": str(set_path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
+              "units": units_of_scores, "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()),
+              "laws": summaries}
     _write_scorecard(out, cards, units_of_scores)
     write_parquet(every_row, names, out / "rows.parquet", units)
     _write_rows_csv(out / "rows.csv", every_row, names)
-    result["plots"] = benchmark_report.plots(out, {law: [r for r in every_row if r["law"] == law] for law in laws})
+    result["plots"] = benchmark_report.plots(out, {law: [r for r in every_row if r["law"] == law]
+                                                   for law in summaries}, band)
     (out / "report.md").write_text(benchmark_report.markdown(result, cards, units_of_scores))
     write_json_atomically(out / "scorecard.json", result)
     return result

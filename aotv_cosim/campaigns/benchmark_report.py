@@ -1,4 +1,4 @@
-"""The benchmark's scorecard as text (console, report.md) and its overlaid plots."""
+"""The benchmark's scorecard as text (console, report.md) and its plot: the laws side by side."""
 
 import math
 
@@ -6,8 +6,10 @@ import numpy as np
 
 from aotv_cosim.campaigns.figures import axes_style
 
-OVERLAID = (("outcome.apogee_error", "apogee error [m]"), ("outcome.dv_total", "correction dv [m/s]"),
-            ("outcome.peak_heat_rate", "peak heat rate [W/m2]"), ("outcome.int_abs_u", "int |u| dt [m/s]"))
+PANELS = (("outcome.apogee_error", "apogee error", "m"), ("outcome.dv_total", "correction dv", "m/s"),
+          ("outcome.peak_heat_rate", "peak heat rate", "W/m2"), ("outcome.heat_load", "heat load", "J/m2"),
+          ("outcome.peak_load_factor", "peak load factor", "1"), ("outcome.int_abs_u", "int |u| dt", "m/s"))
+"""(row column, name, SI unit) of each panel of benchmark.png."""
 
 
 def _cell(v) -> str:
@@ -25,8 +27,16 @@ def table(cards, units) -> list:
 
 
 def console(cards, units) -> str:
-    """The scorecard transposed (one column per law, one line per figure), for a terminal."""
-    rows = table(cards, units)
+    """The scorecard transposed (one column per law, one line per figure), for a terminal, in
+    display units (km, W/cm2, kJ/cm2, g; `figures.display`); the files keep SI."""
+    from aotv_cosim.campaigns.figures import display
+
+    shown, scaled = {}, []
+    for column, unit in units.items():
+        shown[column], _ = display(column, unit)
+    for card in cards:
+        scaled.append({c: v * display(c, units[c])[1] if isinstance(v, float) else v for c, v in card.items()})
+    rows = table(scaled, shown)
     lines = list(zip(*rows))
     widths = [max(len(c) for c in col) for col in zip(*lines)]
     return "\n".join("  ".join(c.ljust(w) if k == 0 else c.rjust(w) for k, (c, w) in enumerate(zip(line, widths)))
@@ -42,39 +52,59 @@ def markdown(result, cards, units) -> str:
            "bound the 3-sigma-equivalent band. A `-` is a figure the runs do not provide.", "",
            "| " + " | ".join(lines[0]) + " |", "|---|" + "---:|" * (len(lines[0]) - 1)]
     out += ["| " + " | ".join(line) + " |" for line in lines[1:]]
-    out += ["", f"Campaign wall time, all laws: {result['wall_time_s']:.1f} s.", ""]
-    out += [f"- {law}: [{law}/report.md]({law}/report.md)" for law in result["laws"]]
+    out += ["", f"Campaign wall time of the laws flown now: {result['wall_time_s']:.1f} s.", ""]
+    out += [f"- {law}: rows reused from an earlier campaign with the same scenario, FMUs, dispersions, seed "
+            "and N" if info.get("reused") else f"- {law}: [{law}/report.md]({law}/report.md)"
+            for law, info in result["laws"].items()]
     out += [""] + [f"![{p}]({p})" for p in result.get("plots", [])]
     return "\n".join(out) + "\n"
 
 
-def plots(out_dir, rows_by_law) -> list:
-    """benchmark.png: each law's distribution of the OVERLAID columns (step histograms on common
-    bins, completed runs with finite values)."""
+def plots(out_dir, rows_by_law, band=None) -> list:
+    """benchmark.png: one panel per PANELS metric, the laws side by side as box plots (median,
+    quartiles, whiskers at the 0.135 / 99.865 percentiles, runs beyond them as points) over the
+    completed runs with a finite value, in display units (km, W/cm2, kJ/cm2, g); the apogee error
+    on a symmetric-log axis (linear within +-1 km) with the capture band (+-band m) shaded, the
+    capture rate under each law's name."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
-    for ax, (column, label) in zip(axes.flat, OVERLAID):
-        data = {}
-        for law, rows in rows_by_law.items():
-            x = np.array([float(r[column]) for r in rows if r["status"] == "completed"], dtype=float)
-            data[law] = x[np.isfinite(x)]
-        every = np.concatenate([x for x in data.values() if len(x)] or [np.zeros(0)])
-        if len(every) < 2 or np.ptp(every) == 0.0:
-            ax.set_title(f"{label}: no spread", fontsize=9)
+    from aotv_cosim.campaigns.figures import display
+
+    laws = list(rows_by_law)
+    ticks = [f"{law}\n{_capture_rate(rows_by_law[law]):.0f} % capt." for law in laws]
+    fig, axes = plt.subplots(2, 3, figsize=(max(12.0, 3 * (1.2 + 0.5 * len(laws))), 8))
+    for ax, (column, name, unit) in zip(axes.flat, PANELS):
+        shown, factor = display(column, unit)
+        data = []
+        for law in laws:
+            x = np.array([float(r[column]) for r in rows_by_law[law] if r["status"] == "completed"], dtype=float)
+            data.append(x[np.isfinite(x)] * factor)
+        if not any(len(x) for x in data):
+            ax.set_title(f"{name}: no finite value", fontsize=9)
+            ax.axis("off")
             continue
-        bins = np.linspace(every.min(), every.max(), 40)
-        for law, x in data.items():
-            if len(x):
-                ax.hist(x, bins=bins, histtype="step", lw=1.3, label=law)
-        ax.set_xlabel(label, fontsize=8)
-        ax.set_ylabel("runs", fontsize=8)
-        axes_style(ax)
-    axes.flat[0].legend(fontsize=7)
+        ax.boxplot([x if len(x) else [np.nan] for x in data], whis=(0.135, 99.865), widths=0.6,
+                   flierprops={"markersize": 2, "alpha": 0.5}, medianprops={"color": "tab:red"})
+        if column == "outcome.apogee_error":
+            ax.set_yscale("symlog", linthresh=1.0)
+            if band:
+                ax.axhspan(-band * factor, band * factor, color="tab:green", alpha=0.2, zorder=0,
+                           label=f"capture band +-{band * factor:g} {shown}")
+                ax.legend(fontsize=7, loc="upper left")
+        else:
+            axes_style(ax)
+        ax.grid(alpha=0.3, axis="y")
+        ax.set_xticks(range(1, len(laws) + 1), ticks, fontsize=7, rotation=30, ha="right")
+        ax.set_ylabel(f"{name} [{shown}]", fontsize=8)
+        ax.tick_params(axis="y", labelsize=8)
     fig.tight_layout()
     fig.savefig(out_dir / "benchmark.png", dpi=90)
     plt.close(fig)
     return ["benchmark.png"]
+
+
+def _capture_rate(rows) -> float:
+    return 100.0 * sum(r["outcome"] == "captured" for r in rows) / len(rows) if rows else math.nan

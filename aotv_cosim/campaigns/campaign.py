@@ -36,12 +36,14 @@ def batches_of(items, workers):
 
 
 def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None, resume=False,
-                 sets=None, progress=True, make_plots=True, start=None, stop=None) -> dict:
+                 sets=None, progress=True, make_plots=True, start=None, stop=None, keep_series=False) -> dict:
     """Run `runs` dispersed runs of the scenario; returns the campaign summary (summary.json).
 
     scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
     (or a distributed.Client). The rows do not depend on either choice. start, stop (s)
     override the scenario's times (--start, --stop). The summary's `units` give every column's.
+    keep_series: also write every run's recorded signals, decimated to about 200 rows, to
+    series.parquet (and draw the Monte Carlo trajectory overlay, `figures.trajectories`).
     SIGINT/SIGTERM (deferred, see `interrupts`) stop the campaign: the finished runs are kept
     (rows.csv, rows.parquet), summary.json says status 'interrupted', and --resume runs the rest.
     """
@@ -53,11 +55,11 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
     with interrupts.deferred(), claimed(out_dir, CAMPAIGN_FILES):
         return _campaign(scenario, scenario_path, runs, Path(out_dir), workers, seed, scheduler, resume,
-                         sets, progress, make_plots, times)
+                         sets, progress, make_plots, times, keep_series)
 
 
 def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resume, sets, progress,
-              make_plots, times):
+              make_plots, times, keep_series=False):
     names = columns(scenario)
     campaign_report.chosen(scenario, names)  # refuse an unknown report column before any run
     manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
@@ -69,8 +71,10 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
     work = [(k, draw(scenario.dispersions, seed, k)) for k in todo]
     n_workers = workers if scheduler is None else max(1, workers)
     chunks = batches_of(work, n_workers)
-    source = (backends.local(str(scenario_path), sets, chunks, workers, names, times) if scheduler is None
-              else backends.dask(str(scenario_path), sets, chunks, scheduler, names, times))
+    source = (backends.local(str(scenario_path), sets, chunks, workers, names, times, keep_series)
+              if scheduler is None else
+              backends.dask(str(scenario_path), sets, chunks, scheduler, names, times, keep_series=keep_series))
+    series = {}
     bar = None
     if progress:
         from tqdm import tqdm
@@ -81,6 +85,8 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
     try:
         for rows in source:
             for row in rows:
+                if "series" in row:
+                    series[row["run"]] = row.pop("series")
                 store.add(row)
             if bar is not None:
                 bar.update(len(rows))
@@ -111,5 +117,10 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
     }
     summary.update(campaign_report.write(out, rows, scenario, units, names,
                                          make_plots and status == "completed"))
+    if keep_series:
+        from aotv_cosim.campaigns.series import write_series
+
+        summary["plots"] += write_series(out, series, scenario, str(scenario_path), sets, times,
+                                         make_plots and status == "completed")
     write_json_atomically(out / "summary.json", summary)
     return summary

@@ -1,6 +1,9 @@
 """Campaign plots a GNC engineer reads: histograms of chosen columns, inputs against outputs, and
-the exit-state scatter with its 3-sigma ellipse drawn under the points. Every axis is labelled
-with the column and its SI unit; ticks are limited in number and never offset."""
+the exit-state scatter with its 3-sigma ellipse outlined under the points (histograms of the two
+exit values when only one value is dispersed: the ellipse would be degenerate); the sweep and
+corridor plots. Every axis is labelled
+with the column and its unit, in display units (km, km/s, W/cm2, kJ/cm2, g: `display`) while the
+files keep SI; ticks are limited in number and never offset."""
 
 import numpy as np
 
@@ -8,10 +11,32 @@ from aotv_cosim.campaigns.report import ellipse_3sigma
 from aotv_cosim.campaigns.report_tables import values
 
 
+DISPLAY = {"m": ("km", 1e-3), "W/m2": ("W/cm2", 1e-4), "J/m2": ("kJ/cm2", 1e-7)}
+"""Display unit and factor (display value = SI value * factor) of the SI units engineers read
+otherwise: altitudes and apogees in km, heat rates in W/cm2, heat loads in kJ/cm2. Speeds of the
+vehicle (columns ending in .v) are shown in km/s; correction dv stays in m/s; the load factor is
+already in g. Files keep SI."""
+
+
+def display(name, unit) -> tuple:
+    """(display unit, factor) of a column in `unit` (SI): `DISPLAY`, km/s for a speed."""
+    if unit == "m/s" and name.endswith(".v"):
+        return "km/s", 1e-3
+    if unit == "1" and "load_factor" in name:
+        return "g", 1.0
+    return DISPLAY.get(unit, (unit, 1.0))
+
+
 def label(name, units) -> str:
     """Axis label: the column and its unit ('1' for dimensionless)."""
     unit = units.get(name, "")
     return f"{name} [{unit}]" if unit else name
+
+
+def shown_label(name, units) -> str:
+    """Axis label in display units (`display`): the column and the unit its values are drawn in."""
+    shown = display(name, units.get(name, ""))[0]
+    return f"{name} [{shown}]" if shown else name
 
 
 def axes_style(ax):
@@ -54,8 +79,9 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
     if drawn:
         fig, axes = _grid(plt, len(drawn))
         for ax, (name, x) in zip(axes, drawn):
-            ax.hist(x, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
-            ax.set_xlabel(label(name, units), fontsize=8)
+            ax.hist(x * display(name, units.get(name, ""))[1], bins=min(30, max(5, len(x) // 5)),
+                    color="tab:blue", alpha=0.8)
+            ax.set_xlabel(shown_label(name, units), fontsize=8)
             ax.set_ylabel("runs", fontsize=8)
             axes_style(ax)
         files.append(_save(fig, out_dir, "histograms.png"))
@@ -64,25 +90,136 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
     if pairs:
         fig, axes = _grid(plt, len(pairs))
         for ax, (a, b, x, y) in zip(axes, pairs):
-            ax.plot(x, y, ".", ms=3, alpha=0.7)
-            ax.set_xlabel(label(a, units), fontsize=8)
-            ax.set_ylabel(label(b, units), fontsize=8)
+            ax.plot(x * display(a, units.get(a, ""))[1], y * display(b, units.get(b, ""))[1], ".", ms=3, alpha=0.7)
+            ax.set_xlabel(shown_label(a, units), fontsize=8)
+            ax.set_ylabel(shown_label(b, units), fontsize=8)
             axes_style(ax)
         files.append(_save(fig, out_dir, "versus.png"))
     if len(scenario.scatter) == 2:
         at = "exit" if scenario.stop_conditions else "final"
         a, b = (f"{at}.{s}" for s in scenario.scatter)
         x, y = _pairs(rows, a, b)
-        if len(x) > 2:
+        if len(x) > 2 and len(scenario.dispersions) < 2:
+            files.append(_exit_histograms(plt, out_dir, (a, x), (b, y), units))
+        elif len(x) > 2:
             fig, ax = plt.subplots(figsize=(5.5, 4.5))
-            ax.plot(*ellipse_3sigma(x, y), "r-", lw=1.2, zorder=1, label="3-sigma ellipse")
-            ax.plot(x, y, ".", ms=3, alpha=0.7, zorder=2, label=f"{len(x)} runs")
-            ax.set_xlabel(label(a, units), fontsize=9)
-            ax.set_ylabel(label(b, units), fontsize=9)
+            fx, fy = display(a, units.get(a, ""))[1], display(b, units.get(b, ""))[1]
+            ex, ey = ellipse_3sigma(x, y)
+            ax.plot(ex * fx, ey * fy, "r-", lw=1.2, zorder=1, label="3-sigma ellipse")
+            ax.plot(x * fx, y * fy, ".", ms=3, alpha=0.7, zorder=2, label=f"{len(x)} runs")
+            ax.set_xlabel(shown_label(a, units), fontsize=9)
+            ax.set_ylabel(shown_label(b, units), fontsize=9)
             axes_style(ax)
             ax.legend(fontsize=8)
             files.append(_save(fig, out_dir, "scatter.png"))
     return files, notes
+
+
+OUTCOME_COLORS = {"captured": "tab:green", "skip_out": "tab:orange", "undershoot": "tab:blue",
+                  "impact": "black", "failed": "tab:red"}
+"""Marker colour of each outcome class."""
+
+
+def _exit_histograms(plt, out_dir, first, second, units) -> str:
+    """scatter.png for a campaign with one dispersed value: the exit pair then lies on a curve,
+    whose 3-sigma ellipse would be degenerate, so each value gets a histogram with its 0.135 and
+    99.865 percentiles marked."""
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
+    for ax, (name, x) in zip(axes, (first, second)):
+        factor = display(name, units.get(name, ""))[1]
+        ax.hist(x * factor, bins=min(30, max(5, len(x) // 5)), color="tab:blue", alpha=0.8)
+        for p in (0.135, 99.865):
+            ax.axvline(np.percentile(x, p) * factor, color="tab:red", lw=1, ls="--")
+        ax.set_xlabel(shown_label(name, units), fontsize=8)
+        ax.set_ylabel("runs", fontsize=8)
+        axes_style(ax)
+    axes[0].set_title("one dispersed value: histograms (dashed: 0.135 / 99.865 percentiles)", fontsize=8,
+                      loc="left")
+    return _save(fig, out_dir, "scatter.png")
+
+
+def sweep_plot(out_dir, rows, parameters, units, outcome_settings) -> str:
+    """sweep.png: for one swept parameter, the outcome metrics and extrema against it (one panel
+    each, display units, points coloured by outcome class, the capture band drawn on the apogee
+    error); for two or more, the class of every point over the first two parameters."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    classes = [r.get("outcome", r["status"]) for r in rows]
+    colors = [OUTCOME_COLORS.get(c, "tab:gray") for c in classes]
+    if len(parameters) >= 2:
+        a, b = parameters[:2]
+        fig, ax = plt.subplots(figsize=(6, 4.8))
+        for cls in dict.fromkeys(classes):
+            pick = [r for r, c in zip(rows, classes) if c == cls]
+            ax.scatter([r[a] for r in pick], [r[b] for r in pick], s=30, label=cls,
+                       color=OUTCOME_COLORS.get(cls, "tab:gray"))
+        ax.set_xlabel(label(a, units), fontsize=9)
+        ax.set_ylabel(label(b, units), fontsize=9)
+        ax.legend(fontsize=8)
+        axes_style(ax)
+        return _save(fig, out_dir, "sweep.png")
+    x_name = parameters[0]
+    panels = [n for n in ("outcome.apogee_error", "outcome.dv_total", "min.vehicle.h", "max.vehicle.qdot",
+                          "max.vehicle.load_factor", "outcome.heat_load") if n in units]
+    panels = panels or [n for n in units if n.startswith(("min.", "max."))][:4]
+    fig, axes = _grid(plt, len(panels))
+    x = np.array([float(r[x_name]) for r in rows])
+    for ax, name in zip(axes, panels):
+        shown, factor = display(name, units.get(name, ""))
+        y = np.array([float(r[name]) for r in rows]) * factor
+        finite = np.isfinite(y)
+        ax.plot(x[finite], y[finite], "-", color="0.7", lw=1, zorder=1)
+        ax.scatter(x[finite], y[finite], c=[c for c, f in zip(colors, finite) if f], s=22, zorder=2)
+        if name == "outcome.apogee_error" and outcome_settings is not None:
+            band = float(outcome_settings.get("band", 10e3)) * factor
+            ax.axhspan(-band, band, color="tab:green", alpha=0.15, zorder=0, label="capture band")
+            ax.legend(fontsize=7)
+        ax.set_xlabel(label(x_name, units), fontsize=8)
+        ax.set_ylabel(f"{name} [{shown}]", fontsize=8)
+        axes_style(ax)
+    handles = [plt.Line2D([], [], marker="o", ls="", color=OUTCOME_COLORS.get(c, "tab:gray"), label=c)
+               for c in dict.fromkeys(classes)]
+    fig.legend(handles=handles, loc="upper right", fontsize=7, ncol=len(handles))
+    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    fig.savefig(out_dir / "sweep.png", dpi=90)
+    plt.close(fig)
+    return "sweep.png"
+
+
+def corridor_plot(out_dir, result) -> str:
+    """corridor.png: apogee error (km) against the entry flight-path angle (deg) of the runs
+    flown at full lift up and full lift down, the capture band, and the corridor between the
+    two bounds shaded, its width in the title."""
+    import math
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.6))
+    band = result["band_m"] / 1e3
+    ax.axhspan(-band, band, color="tab:green", alpha=0.15, label=f"capture band +-{band:g} km")
+    for bound, name, color in (("steep", "full lift up", "tab:blue"), ("shallow", "full lift down", "tab:red")):
+        points = sorted((g, e) for g, e in result[bound]["points"] if math.isfinite(e))
+        ax.plot([math.degrees(g) for g, _ in points], [e / 1e3 for _, e in points], "o-", ms=3, lw=1,
+                color=color, label=f"{name} (L/D = {result['lift_to_drag']:g})")
+        ax.axvline(math.degrees(result[bound]["gamma0"]), color=color, ls="--", lw=1)
+    ax.axvspan(math.degrees(result["steep"]["gamma0"]), math.degrees(result["shallow"]["gamma0"]),
+               color="0.85", zorder=0, label="corridor")
+    ax.axvline(math.degrees(result["nominal_gamma0"]), color="black", lw=1, label="nominal entry")
+    ax.set_ylim(-8 * band, 8 * band)
+    ax.set_xlabel("entry flight-path angle gamma0 [deg]", fontsize=9)
+    ax.set_ylabel("exit apogee error [km]", fontsize=9)
+    ax.set_title(f"corridor {math.degrees(result['steep']['gamma0']):.4f} ... "
+                 f"{math.degrees(result['shallow']['gamma0']):.4f} deg, width {result['width_deg']:.4f} deg "
+                 f"(bisection to +-{result['tolerance_m']:g} m of the band edge)", fontsize=8)
+    axes_style(ax)
+    ax.legend(fontsize=7, loc="lower right")
+    return _save(fig, out_dir, "corridor.png")
 
 
 def _grid(plt, n):

@@ -8,7 +8,10 @@ reaches the ground is stopped there by the master's range watch on h (status imp
 classified impact.
 """
 
-from aotv_cosim.campaigns.outcome import CaptureCriteria, RunOutcome, classify, record_from_row
+import math
+
+from aotv_cosim.campaigns.outcome import (CaptureCriteria, RunOutcome, classify, record_from_row,
+                                           record_from_summary)
 
 CLASS, REASON = "outcome", "outcome.reason"
 """The class column (one of outcome.OUTCOMES) and the text saying why."""
@@ -41,6 +44,21 @@ def outcome_columns(row: dict, settings: dict) -> dict:
     values = result.as_dict()
     values[CLASS] = values.pop("outcome.outcome")
     return {name: values[name] for name in UNITS}
+
+
+def run_outcome(summary: dict, settings: dict) -> dict:
+    """The outcome of a single run from its summary (`record_from_summary`), as a campaign row
+    would give it: {"class", "reason", "apogee", "perigee", "apogee_error", "dv_circ", "dv_total",
+    ..., "units": {metric: SI unit}}; a non-finite metric is written "nan" (not provided by the
+    run) or "inf" (unbound exit orbit), as summary.json writes every non-finite value."""
+    c = criteria(settings)
+    record = record_from_summary(summary, c, settings.get("vehicle", "vehicle"), settings.get("actuator", "actuator"))
+    values = classify(record, c).as_dict(prefix="")
+    result = {"class": values.pop("outcome"), "reason": values.pop("reason")}
+    result.update({k: v if math.isfinite(v) else str(v) for k, v in values.items()})
+    result["units"] = {name.split(".", 1)[1]: unit for name, unit in UNITS.items() if name not in (CLASS, REASON)}
+    result["criteria"] = {"target_apogee": c.target_apogee, "band": c.band, "floor": c.floor}
+    return result
 
 
 def counts(rows) -> dict:

@@ -57,9 +57,15 @@ def _number(v) -> str:
 
 def console_table(table: dict, units: dict, outcomes: dict = None) -> str:
     """Plain-text statistics table (one line per column, unit beside the name) and the
-    outcome counts, as printed after a campaign."""
+    outcome counts, as printed after a campaign: in display units (km, km/s, W/cm2, kJ/cm2, g;
+    `figures.display`), while summary.json and report.md keep SI."""
+    from aotv_cosim.campaigns.figures import display
+
     heads = ("column", "unit") + FIELDS
-    lines = [[name, units.get(name, "") or "-"] + [_number(s[f]) for f in FIELDS] for name, s in table.items()]
+    lines = []
+    for name, stats in table.items():
+        shown, factor = display(name, units.get(name, ""))
+        lines.append([name, shown or "-"] + [_number(stats[f] if f == "n" else stats[f] * factor) for f in FIELDS])
     widths = [max(len(str(c)) for c in col) for col in zip(heads, *lines)]
     text = ["  ".join(h.ljust(w) if k < 2 else h.rjust(w) for k, (h, w) in enumerate(zip(heads, widths)))]
     text += ["  ".join(c.ljust(w) if k < 2 else c.rjust(w) for k, (c, w) in enumerate(zip(line, widths)))

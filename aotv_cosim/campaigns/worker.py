@@ -31,14 +31,20 @@ def columns(scenario) -> list:
     return names
 
 
-class _Extrema:
-    """The master's `record` callback keeping only the last row and running min/max of `signals`."""
+SERIES_POINTS = 200
+"""About how many rows of its recorded signals a run keeps with keep_series (evenly in time)."""
 
-    def __init__(self, master, signals):
+
+class _Extrema:
+    """The master's `record` callback keeping only the last row and running min/max of `signals`,
+    and, when `spacing` (s) is given, the rows at least that far apart in time (`series`)."""
+
+    def __init__(self, master, signals, spacing=None):
         self.master, self.signals = master, signals
         self.select = None
         self.last = self.low = self.high = None
         self.time = math.nan
+        self.spacing, self.series, self.kept_at = spacing, [], -math.inf
 
     def __call__(self, times, rows):
         if self.select is None:  # the master's buffer layout is known once it runs
@@ -48,21 +54,35 @@ class _Extrema:
         self.low = low if self.low is None else np.fmin(self.low, low)
         self.high = high if self.high is None else np.fmax(self.high, high)
         self.last, self.time = rows[-1], float(times[-1])
+        if self.spacing is not None:
+            for t, row in zip(times, rows):
+                if t >= self.kept_at + self.spacing:
+                    self.series.append((float(t), *map(float, row)))
+                    self.kept_at = t
+
+    def kept(self) -> dict:
+        """{"time": [...], signal: [...]}: the kept rows and the last one."""
+        rows = list(self.series)
+        if self.last is not None and (not rows or rows[-1][0] < self.time):
+            rows.append((self.time, *map(float, self.last)))
+        return dict(zip(["time", *self.signals], map(list, zip(*rows)))) if rows else {}
 
 
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, scenario_path, sets=None, times=None):
+    def __init__(self, scenario_path, sets=None, times=None, keep_series=False):
         start, stop = times or (None, None)
         self.scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
+        self.spacing = (self.scenario.stop - self.scenario.start) / SERIES_POINTS if keep_series else None
         self.signals = numeric_columns(self.scenario)
         self.columns = columns(self.scenario)
         self.pool = {}
 
     def run(self, run: int, values: dict) -> dict:
         """The row of one run with the dispersed `values` ({'comp.var': value}), classified when
-        the scenario asks for outcomes."""
+        the scenario asks for outcomes; with keep_series, its decimated recorded signals under
+        "series" (not a column: the campaign writes them to series.parquet)."""
         row = self._run(run, values)
         if self.scenario.outcome is not None:
             row.update(outcome_rows.outcome_columns(row, self.scenario.outcome))
@@ -74,13 +94,15 @@ class Runner:
         row.update({f"dispersed.{k}": v for k, v in values.items()})
         try:
             master = Master(self.scenario, None, overrides=values, pool=self.pool)
-            master.record = extrema = _Extrema(master, self.signals)
+            master.record = extrema = _Extrema(master, self.signals, self.spacing)
             outcome = master.run()
         except Exception as exc:  # a bad draw (e.g. a value the FMU rejects): record it, go on
             row["error"] = f"{type(exc).__name__}: {exc}"
             return row
         row.update(status=outcome.status, error=outcome.error or "", steps=outcome.steps,
                    end_time=extrema.time)
+        if self.spacing is not None:
+            row["series"] = extrema.kept()
         if extrema.last is not None:
             for k, s in enumerate(self.signals):
                 row[f"final.{s}"] = float(extrema.last[k])
@@ -92,18 +114,18 @@ class Runner:
         return row
 
 
-def runner(scenario_path, sets=None, times=None) -> Runner:
+def runner(scenario_path, sets=None, times=None, keep_series=False) -> Runner:
     """This thread's Runner for the scenario (made on first use); times: (start, stop) or None."""
-    key = (str(scenario_path), tuple(sorted((sets or {}).items())), times)
+    key = (str(scenario_path), tuple(sorted((sets or {}).items())), times, keep_series)
     cache = getattr(_LOCAL, "runners", None)
     if cache is None:
         cache = _LOCAL.runners = {}
     if key not in cache:
-        cache[key] = Runner(scenario_path, sets, times)
+        cache[key] = Runner(scenario_path, sets, times, keep_series)
     return cache[key]
 
 
-def run_batch(scenario_path, sets, batch, times=None) -> list:
+def run_batch(scenario_path, sets, batch, times=None, keep_series=False) -> list:
     """Rows of a batch [(run, values), ...] (the task sent to a worker)."""
-    r = runner(scenario_path, sets, times)
+    r = runner(scenario_path, sets, times, keep_series)
     return [r.run(run, values) for run, values in batch]

@@ -52,16 +52,26 @@ class FmuInfo:
 
 
 def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
-    """An FMU reference of a wiring file: a path ending in .fmu (relative to base) or a name in fmus_src."""
+    """An FMU reference of a wiring file: a path ending in .fmu, or a user's FMU source ending in
+    .py (built into the cache on first use, `fmu_build.ensure_fmu`), both relative to base, or a
+    name in fmus_src."""
     if ref.endswith(".fmu"):
         return resolved(base / ref, file=file, entry=entry, what=".fmu file")
+    if fmu_build.is_source_path(ref):
+        source = resolved(base / ref, file=file, entry=entry, what="FMU source (.py)")
+        try:
+            regular_file(source, what="FMU source (.py)", file=file, entry=entry)
+        except InputError as exc:
+            raise InputError(f"FMU source {exc.cause}", file=file, entry=entry,
+                             fix="correct the path (relative to the wiring file)") from None
+        return fmu_build.ensure_fmu(source)
     names = fmu_build.available_fmus()
     if ref not in names:
         close = difflib.get_close_matches(ref, names, n=3)
         hint = f"did you mean {' or '.join(close)}? " if close else ""
         raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
-                         fix=f"{hint}give a path to a .fmu file (relative to the wiring file) "
-                             f"or one of {', '.join(names)}")
+                         fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
+                             f"wiring file) or one of {', '.join(names)}")
     return fmu_build.ensure_fmu(ref)
 
 

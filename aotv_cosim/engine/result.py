@@ -16,7 +16,8 @@ class Result:
     units: {'time': 's', signal: unit}; summary: the summary dict (as in summary.json);
     status: 'completed', 'terminated' (an FMU asked to end the run), 'failed' or 'interrupted'; event: the located stop-condition crossing
     ({'signal', 'threshold', 'time', 'values'}) or None; expectations: the checked numbers
-    (measured, expected, allowed error, passed, source); out: the output folder or None.
+    (measured, expected, allowed error, passed, source); outcome: the run classified (see the
+    property); out: the output folder or None.
     """
 
     def __init__(self, summary, columns, times, rows, decoder=None, out=None):
@@ -42,6 +43,12 @@ class Result:
     @property
     def expectations(self) -> list:
         return self.summary["expectations"]
+
+    @property
+    def outcome(self):
+        """The run classified as a campaign would (class, reason, apogee, perigee, apogee_error,
+        dv_total... in SI, their "units"), when the scenario declares montecarlo.outcome; else None."""
+        return self.summary.get("outcome")
 
     @property
     def passed(self) -> bool:

@@ -154,6 +154,10 @@ def _simulate(scenario, open_series, progress):
         "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
         "plots": [],
     }
+    if scenario.outcome is not None:  # classified as a campaign row would be
+        from aotv_cosim.campaigns.outcome_rows import run_outcome
+
+        summary["outcome"] = run_outcome(summary, scenario.outcome)
     return Run(summary, columns, times, rows, decoder)
 
 
@@ -165,11 +169,15 @@ def _output_failed(outcome, exc):
 
 
 def _attach_fmu_log(outcome, master):
-    """Add the failing component's log messages ('status: text', oldest first) to error_detail."""
+    """Add the failing component's log messages ('status: text', oldest first) to error_detail, and
+    the last Python traceback it logged, lines kept, as error_detail["traceback"]."""
     detail = outcome.error_detail
     instance = master.instances.get(detail.get("component")) if detail else None
     if instance is not None:
         detail["fmu_log"] = [f"{status}: {' '.join(text.split())}" for status, text in instance.messages]
+        tracebacks = [text for _, text in instance.messages if "Traceback (most recent call last)" in text]
+        if tracebacks:  # an exception in the FMU's Python code, logged by AotvSlave: keep its lines
+            detail["traceback"] = tracebacks[-1].strip()
 
 
 def _warnings(scenario, outcome):

@@ -1,4 +1,10 @@
-"""Build the FMUs of ``fmus_src`` with pythonfmu: content-hash cache, compliant, reproducible.
+"""Build the FMUs of ``fmus_src``, or a user's FMU source file from any folder, with pythonfmu:
+content-hash cache, compliant, reproducible.
+
+An FMU is named by its source (`fmu_source`): a name of fmus_src, or a path ending in .py (a
+user's law, see docs/writing-a-guidance-law.md; `check_source` imports it apart and returns its
+class, reporting the file and line of a failure; canGetAndSetFMUstate is declared true only for
+an AotvSlave, whose state snapshot the runtime provides).
 
 Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the guidance laws and
 the adapter base classes) so it runs where aotv-cosim is not installed, under a name of its own
@@ -29,11 +35,12 @@ from xml.etree import ElementTree
 import pythonfmu
 from pythonfmu.builder import FmuBuilder
 
-from aotv_cosim.engine.errors import BuildError
+from aotv_cosim.engine.errors import AotvError, BuildError, InputError
+from aotv_cosim.engine.paths import regular_file
 from aotv_cosim.fmu import native as fmu_native
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
-RUNTIME = ("__init__.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
+RUNTIME = ("__init__.py", "laws.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
            "fmu/vehicle_slave.py", "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
 RUNTIME_PATTERNS = ("*.py", "*.csv")
@@ -72,6 +79,75 @@ def available_fmus() -> list:
     return sorted(p.stem for p in fmus_src_dir().glob("*.py") if not p.stem.startswith("_"))
 
 
+def is_source_path(ref) -> bool:
+    """True if the FMU reference `ref` names a user's FMU source file (it ends in .py)."""
+    return str(ref).endswith(".py")
+
+
+def fmu_source(ref) -> Path:
+    """The source file of an FMU: fmus_src/<ref>.py for a name of this package, else `ref` itself
+    when it is a path to a .py file (a user's FMU source, anywhere). InputError when neither."""
+    if is_source_path(ref):
+        path = Path(ref).resolve()
+        try:
+            regular_file(path, what="FMU source (.py)")
+        except InputError as exc:
+            raise InputError(exc.cause, file=str(ref), fix="give the path of a Python file defining one FMU "
+                             "class (see docs/writing-a-guidance-law.md)") from None
+        return path
+    if ref not in available_fmus():
+        raise BuildError(f"no FMU named {ref!r} in fmus_src",
+                         fix=f"use one of {', '.join(available_fmus())}, a .py FMU source or a .fmu file")
+    return fmus_src_dir() / f"{ref}.py"
+
+
+def check_source(source: Path) -> type:
+    """Import a user's FMU source apart from sys.modules and return its FMU class (the concrete
+    Fmi2Slave subclass defined in it, as pythonfmu picks it: the longest class hierarchy).
+
+    Importing runs the class checks of `AotvSlave.__init_subclass__` (do_step defined, units
+    parsed when instantiated later). InputError naming the file and line of a failure."""
+    import importlib.util
+    import inspect
+    import traceback
+
+    from pythonfmu import Fmi2Slave
+
+    name = f"_aotv_fmu_source_{source.stem}"
+    spec = importlib.util.spec_from_file_location(name, source)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses and pickling look the module up while it runs
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:
+        frames = [f for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename) == source]
+        where = f"line {frames[-1].lineno}" if frames else None
+        raise InputError(f"importing it raised {type(exc).__name__}: {exc}", file=str(source), entry=where,
+                         fix="fix the source (run `python " + source.name + "` to see the traceback)") from exc
+    finally:
+        sys.modules.pop(name, None)
+    classes = [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, Fmi2Slave)
+               and c.__module__ == name and not inspect.isabstract(c)]
+    if not classes:
+        raise InputError("defines no concrete FMU class", file=str(source),
+                         fix="define a subclass of aotv_cosim.laws.AotvSlave (or one of its guidance bases) "
+                             "with do_step and every abstract method")
+    longest = max(len(c.__mro__) for c in classes)
+    chosen = [c for c in classes if len(c.__mro__) == longest]
+    if len(chosen) > 1:
+        raise InputError(f"defines several FMU classes ({', '.join(c.__name__ for c in chosen)})",
+                         file=str(source), fix="keep one FMU class per file")
+    return chosen[0]
+
+
+def saves_state(source: Path) -> bool:
+    """True if the FMU class of `source` can get and set its FMU state (an AotvSlave: see
+    `aotv_cosim.fmu.slave.SAVED_STATE`); written as canGetAndSetFMUstate."""
+    from aotv_cosim.fmu.slave import AotvSlave
+
+    return issubclass(check_source(source), AotvSlave)
+
+
 def _runtime_files():
     for entry in RUNTIME:
         path = PACKAGE_DIR / entry
@@ -82,14 +158,16 @@ def _runtime_files():
             yield path
 
 
-def source_hash(name: str) -> str:
-    """SHA-256 over the FMU's module, the bundled runtime, the pythonfmu version and what the
+def source_hash(ref) -> str:
+    """SHA-256 over the FMU's module (`fmu_source(ref)`, by file name and content: a user's source
+    hashes the same in any folder), the bundled runtime, the pythonfmu version and what the
     Linux binary's patch depends on (`fmu_native.fingerprint`: the building Python's libpython)."""
     digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n"
                             f"{fmu_native.fingerprint()}\n".encode())
-    for path in [fmus_src_dir() / f"{name}.py", *_runtime_files()]:
-        rel = path.relative_to(path.parents[1] if path.parent.name == "fmus_src" else PACKAGE_DIR.parent)
-        digest.update(f"{rel.as_posix()}\n".encode())
+    source = fmu_source(ref)
+    for rel, path in [(f"fmus_src/{source.name}", source),
+                      *((p.relative_to(PACKAGE_DIR.parent).as_posix(), p) for p in _runtime_files())]:
+        digest.update(f"{rel}\n".encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()
 
@@ -103,22 +181,27 @@ def built_hash(fmu: Path):
         return None
 
 
-def ensure_fmu(name: str, out_dir=None) -> Path:
-    """Path of an up-to-date FMU for fmus_src/<name>.py, building it if missing or stale.
+def ensure_fmu(ref, out_dir=None) -> Path:
+    """Path of an up-to-date FMU for fmus_src/<ref>.py, or for the user's source file `ref` (a
+    path ending in .py), building it if missing or stale.
 
-    Without out_dir the FMU lives in the cache as <name>-<hash16>.fmu; with it, as <name>.fmu.
+    Without out_dir the FMU lives in the cache as <name>-<hash16>.fmu; with it, as <name>.fmu
+    (name: the source's file name without .py).
     """
-    target, digest = _target(name, out_dir)
+    target, digest = _target(ref, out_dir)
+    source = fmu_source(ref)
+    name = source.stem
     if target.is_file() and built_hash(target) == digest:
         return target
     for hook in BUILD_HOOKS:
         hook(name, "start")
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="aotv_build_") as tmp:
-        raw = _pythonfmu_build(name, Path(tmp))
+        raw = _pythonfmu_build(source, Path(tmp))
+        _forget_module(source)
         staged = Path(tmp) / "final.fmu"
         _rewrite_reproducibly(raw, staged, digest)
-        _validate(staged, name)
+        _validate(staged, source)
         os.replace(staged, target) if staged.stat().st_dev == target.parent.stat().st_dev \
             else shutil.move(staged, target)
     for hook in BUILD_HOOKS:
@@ -126,18 +209,25 @@ def ensure_fmu(name: str, out_dir=None) -> Path:
     return target
 
 
-def _target(name: str, out_dir=None):
-    """(path of the built FMU, source hash) for fmus_src/<name>.py."""
-    if name not in available_fmus():
-        raise BuildError(f"no FMU named {name!r} in fmus_src",
-                         fix=f"use one of {', '.join(available_fmus())} or a path to a .fmu file")
-    digest = source_hash(name)
+def _forget_module(source: Path) -> None:
+    """Drop the module pythonfmu imported from `source` to build it (sys.modules[<stem>]): an FMU
+    instantiated later in this process imports its own bundled copy, not a stale one from an
+    earlier build of an edited source."""
+    module = sys.modules.get(source.stem)
+    if module is not None and Path(getattr(module, "__file__", "") or "").resolve() == source.resolve():
+        del sys.modules[source.stem]
+
+
+def _target(ref, out_dir=None):
+    """(path of the built FMU, source hash) for the FMU `ref` (a name or a .py source)."""
+    name = fmu_source(ref).stem
+    digest = source_hash(ref)
     return (Path(out_dir) / f"{name}.fmu" if out_dir else cache_dir() / f"{name}-{digest[:16]}.fmu"), digest
 
 
-def needs_build(name: str, out_dir=None) -> bool:
-    """True if `ensure_fmu(name, out_dir)` would build (no FMU, or one from other sources)."""
-    target, digest = _target(name, out_dir)
+def needs_build(ref, out_dir=None) -> bool:
+    """True if `ensure_fmu(ref, out_dir)` would build (no FMU, or one from other sources)."""
+    target, digest = _target(ref, out_dir)
     return not (target.is_file() and built_hash(target) == digest)
 
 
@@ -146,25 +236,8 @@ def build_all(out_dir=None) -> dict:
     return {name: ensure_fmu(name, out_dir) for name in available_fmus()}
 
 
-def check_defines_do_step(name: str) -> None:
-    """Refuse an FMU module whose slave class inherits do_step instead of defining it.
-
-    pythonfmu 0.7's runtime finds the slave class through the class that owns ``do_step``; when
-    that is a base class from another module, instantiation corrupts the FMU's module and every
-    later instance fails. So each class in fmus_src defines do_step itself.
-    """
-    source = (fmus_src_dir() / f"{name}.py").read_text()
-    tree = ast.parse(source)
-    classes = [n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == name]
-    if not classes or not any(isinstance(f, ast.FunctionDef) and f.name == "do_step"
-                              for f in classes[0].body):
-        raise BuildError(f"class {name} must be defined in {name}.py and define do_step itself",
-                         file=str(fmus_src_dir() / f"{name}.py"),
-                         fix="add `def do_step(self, current_time, step_size)` to the class")
-
-
-def _pythonfmu_build(name: str, tmp: Path) -> Path:
-    check_defines_do_step(name)
+def _pythonfmu_build(source: Path, tmp: Path) -> Path:
+    name = source.stem
     stage = tmp / "stage" / "aotv_cosim"
     for path in _runtime_files():
         dest = stage / path.relative_to(PACKAGE_DIR)
@@ -173,10 +246,12 @@ def _pythonfmu_build(name: str, tmp: Path) -> Path:
     saved_path = list(sys.path)
     try:
         # canGetAndSetFMUstate: AotvSlave snapshots its state (fmu/slave.py); not serializable
-        return FmuBuilder.build_FMU(fmus_src_dir() / f"{name}.py", dest=tmp / f"{name}.fmu",
-                                    project_files=[stage], canGetAndSetFMUstate=True)
+        return FmuBuilder.build_FMU(source, dest=tmp / f"{name}.fmu",
+                                    project_files=[stage], canGetAndSetFMUstate=saves_state(source))
+    except AotvError:
+        raise
     except Exception as exc:  # pythonfmu raises anything from the user's module
-        raise BuildError(f"pythonfmu failed: {exc}", file=str(fmus_src_dir() / f"{name}.py"),
+        raise BuildError(f"pythonfmu failed: {exc}", file=str(source),
                          fix="fix the FMU module; run `aotv-cosim --debug build-fmus` for the traceback") from exc
     finally:
         sys.path[:] = saved_path
@@ -276,11 +351,11 @@ def _reproducible_description(xml: bytes, digest: str) -> bytes:
     return out.getvalue() + b"\n"
 
 
-def _validate(fmu: Path, name: str) -> None:
+def _validate(fmu: Path, source: Path) -> None:
     from fmpy.validation import validate_fmu
 
     problems = validate_fmu(str(fmu))
     if problems:
         raise BuildError("fmpy validate: " + " | ".join(problems),
-                         file=str(fmus_src_dir() / f"{name}.py"),
+                         file=str(source),
                          fix="declare every variable through AotvSlave.parameter/input/output")

@@ -54,8 +54,8 @@ def _with_items(variable) -> str:
 
 
 def describe(target) -> pd.DataFrame:
-    """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a wiring or a
-    scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
+    """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a .py FMU source
+    (built first, `fmu.build.ensure_fmu`), a wiring or a scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
     from aotv_cosim.engine.scenario import Scenario, load_scenario
     from aotv_cosim.engine.fmu_file import read_fmu, resolve_fmu
     from aotv_cosim.engine.system import System, load_system
@@ -66,13 +66,13 @@ def describe(target) -> pd.DataFrame:
         return _system_table(target)
     text = str(target)
     path = Path(text)
-    if path.suffix == ".fmu" or (not path.suffix and not path.exists()):
+    if path.suffix in (".fmu", ".py") or (not path.suffix and not path.exists()):
         fmu = resolve_fmu(text, Path.cwd(), file=text, entry="FMU")
         return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS),
                             dtype=object)  # an Integer's start stays an integer beside Real ones
     if not path.is_file():
         raise InputError("file not found", file=text,
-                         fix="give an FMU name of this package, a .fmu, a wiring or a scenario file")
+                         fix="give an FMU name of this package, a .fmu, a .py FMU source, a wiring or a scenario file")
     if path.suffix != ".ssp" and "system" in _document(path):
         return _system_table(load_scenario(path).system)
     return _system_table(load_system(path))

@@ -35,42 +35,98 @@ pythonfmu, the standard library and other bundled modules.
 """
 
 import copy
+import functools
+import re
 import sys
-from functools import partial
+import traceback
+from functools import lru_cache, partial
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
 from pythonfmu.enums import Fmi2Status
 
-# SI base-unit exponents of every unit used at an FMU interface (FMI 2.0 BaseUnit attributes).
-UNIT_EXPONENTS = {
-    "1": {},
-    "m": {"m": 1},
-    "m/s": {"m": 1, "s": -1},
-    "m/s2": {"m": 1, "s": -2},
-    "m/s3": {"m": 1, "s": -3},
-    "m2/s2": {"m": 2, "s": -2},
-    "m2/s3": {"m": 2, "s": -3},
-    "m3/s2": {"m": 3, "s": -2},
-    "s": {"s": 1},
-    "rad": {"rad": 1},
-    "rad/s": {"rad": 1, "s": -1},
-    "kg/m3": {"kg": 1, "m": -3},
-    "kg/m2": {"kg": 1, "m": -2},
-    "m2/kg": {"kg": -1, "m": 2},
-    "Pa": {"kg": 1, "m": -1, "s": -2},
-    "W/m2": {"kg": 1, "s": -3},
-    "J/m2": {"kg": 1, "s": -2},
-    "kg/(s.m)": {"kg": 1, "m": -1, "s": -1},
-    "1/m": {"m": -1},
-    "1/rad": {"rad": -1},
-    "1/rad2": {"rad": -2},
-    "m2": {"m": 2},
-    "kg": {"kg": 1},
-    "1/s": {"s": -1},
-    "1/s2": {"s": -2},
-    "N.m": {"kg": 1, "m": 2, "s": -2},
+BASE_UNITS = ("A", "K", "cd", "kg", "m", "mol", "rad", "s")
+"""The base units of FMI 2.0 `BaseUnit` (the SI base units and rad)."""
+
+DERIVED_UNITS = {
+    "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2}, "J": {"kg": 1, "m": 2, "s": -2},
+    "W": {"kg": 1, "m": 2, "s": -3}, "Hz": {"s": -1}, "C": {"A": 1, "s": 1},
+    "V": {"kg": 1, "m": 2, "s": -3, "A": -1}, "Ohm": {"kg": 1, "m": 2, "s": -3, "A": -2},
+    "T": {"kg": 1, "s": -2, "A": -1}, "Wb": {"kg": 1, "m": 2, "s": -2, "A": -1}, "sr": {},
 }
+"""SI derived units with special names, as base-unit exponents (sr is dimensionless)."""
+
+_UNIT_TOKEN = re.compile(r"([A-Za-z]+)(\^?-?[0-9]+)?|1|[./*()]")
+
+
+@lru_cache(maxsize=None)
+def unit_exponents(unit: str) -> dict:
+    """The SI base-unit exponents of a unit string, {base unit: exponent} sorted by name (FMI 2.0
+    `BaseUnit` attributes); ValueError for a string that is not a product of SI units.
+
+    Grammar (the FMI/Modelica spelling): factors joined by "." or "*", each a symbol of
+    `BASE_UNITS` or `DERIVED_UNITS` with an optional integer exponent ("m2", "s-1", "s^2"); "/"
+    divides by the next factor or parenthesised group; "1" is dimensionless. "m/s4" is
+    {"m": 1, "s": -4}, "kg/(s.m)" is {"kg": 1, "m": -1, "s": -1}. Prefixed units (km, ms) are not
+    SI interface units and are refused."""
+    tokens, position = [], 0
+    while position < len(unit):
+        match = _UNIT_TOKEN.match(unit, position)
+        if match is None:
+            raise ValueError(f"unit {unit!r}: cannot read {unit[position:]!r}; write SI units like "
+                             "'m/s2', 'kg/(s.m)' or 'N.m'")
+        tokens.append(match)
+        position = match.end()
+    exponents, rest = _unit_quotient(unit, tokens)
+    if rest or not tokens:
+        raise ValueError(f"unit {unit!r}: unexpected {rest[0].group() if rest else 'empty unit'!r}; "
+                         "write SI units like 'm/s2', 'kg/(s.m)' or 'N.m' ('1' if dimensionless)")
+    return {name: exponents[name] for name in sorted(exponents) if exponents[name]}
+
+
+def _unit_quotient(unit, tokens):
+    """(exponents, tokens left) of `product ("/" (factor | "(" quotient ")"))*`."""
+    exponents, tokens = _unit_product(unit, tokens)
+    while tokens and tokens[0].group() == "/":
+        divisor, tokens = _unit_factor(unit, tokens[1:])
+        for name, power in divisor.items():
+            exponents[name] = exponents.get(name, 0) - power
+    return exponents, tokens
+
+
+def _unit_product(unit, tokens):
+    exponents, tokens = _unit_factor(unit, tokens)
+    while tokens and tokens[0].group() in ".*":
+        factor, tokens = _unit_factor(unit, tokens[1:])
+        for name, power in factor.items():
+            exponents[name] = exponents.get(name, 0) + power
+    return exponents, tokens
+
+
+def _unit_factor(unit, tokens):
+    if not tokens:
+        raise ValueError(f"unit {unit!r} ends where a unit is expected")
+    token, text = tokens[0], tokens[0].group()
+    if text == "1":
+        return {}, tokens[1:]
+    if text == "(":
+        exponents, rest = _unit_quotient(unit, tokens[1:])
+        if not rest or rest[0].group() != ")":
+            raise ValueError(f"unit {unit!r}: a '(' is not closed")
+        return exponents, rest[1:]
+    symbol = token.group(1)
+    if symbol is None:
+        raise ValueError(f"unit {unit!r}: unexpected {text!r} where a unit is expected")
+    if symbol in BASE_UNITS:
+        base = {symbol: 1}
+    elif symbol in DERIVED_UNITS:
+        base = DERIVED_UNITS[symbol]
+    else:
+        raise ValueError(f"unit {unit!r}: {symbol!r} is not an SI unit; use the base units "
+                         f"{', '.join(BASE_UNITS)} or {', '.join(DERIVED_UNITS)} (no prefixes: SI at every interface)")
+    power = int(token.group(2).lstrip("^")) if token.group(2) else 1
+    return {name: p * power for name, p in base.items()}, tokens[1:]
+
 
 POSITIVE = sys.float_info.min
 """Declared `min` of a quantity that must be strictly positive (a speed, a mass, an area, a
@@ -80,11 +136,19 @@ XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}
 """xs:double spellings of the non-finite start values Python formats as inf/-inf/nan."""
 
 
-_NOT_STATE = frozenset({
+NOT_STATE = frozenset({
     "vars", "log_queue", "instance_name", "resources", "visible", "guid", "_units", "_output_deps",
     "_initial_deps", "_getters", "_names", "_ranges", "_input_ranges", "_ranged_vrs"})
 """Instance attributes that are declarations or pythonfmu's own (its C++ side keeps a reference to
-`log_queue`): never part of a saved FMU state."""
+`log_queue`): never part of a saved FMU state. Every other instance attribute is (`SAVED_STATE`)."""
+
+SAVED_STATE = """What fmi2GetFMUstate saves of an AotvSlave, and so what an adapter may hold:
+every instance attribute but NOT_STATE. Immutable values (numbers, strings, tuples of them) are
+shared; a list, dict, set or numpy array is copied one level deep, so an adapter may change its
+items in place but not the objects inside them; an object is shared unless its class sets
+`MUTABLE_STATE = True` (then copy.copy: an adaptive law whose estimates change over a run).
+Anything else an adapter changes over a run must be replaced, not mutated."""
+"""The saved-state rules as text (the extension module and the docs quote it)."""
 
 
 _SCALARS = frozenset({float, int, bool, str, bytes, type(None), frozenset})
@@ -107,6 +171,53 @@ def _copied(value):
     return value
 
 
+def _abstract_names(cls) -> set:
+    """Names of the abstract methods of `cls` as ABCMeta will compute them (it does so only after
+    ``__init_subclass__`` has run)."""
+    names = {name for name, value in vars(cls).items() if getattr(value, "__isabstractmethod__", False)}
+    for base in cls.__bases__:
+        names |= {name for name in getattr(base, "__abstractmethods__", ())
+                  if getattr(getattr(cls, name, None), "__isabstractmethod__", False)}
+    return names
+
+
+def _logging_traceback(do_step):
+    """do_step, logging the traceback of any exception it raises at fmi2Fatal before re-raising
+    it: pythonfmu 0.7 turns the exception into fmi2Fatal with its message only, so the author's
+    file and line reach the master's log (summary.json error_detail) this way. An exception is
+    logged once, by the innermost wrapped do_step."""
+    @functools.wraps(do_step)
+    def wrapper(self, current_time, step_size):
+        try:
+            return do_step(self, current_time, step_size)
+        except Exception as exc:
+            if not getattr(exc, "_aotv_logged", False):
+                exc._aotv_logged = True
+                text = _authors_traceback(exc)
+                self.log(f"{type(self).__name__}.do_step raised at t = {current_time!r} s:\n{text}",
+                         Fmi2Status.fatal)
+            raise
+    return wrapper
+
+
+_BUNDLED_NAME = re.compile(r"^(?P<stem>.+)_[0-9a-f]{16}\.py$")
+"""File name of a module bundled into an FMU: the build appends the source hash to its stem."""
+
+
+def _authors_traceback(exc) -> str:
+    """The traceback of `exc` without the logging wrapper's frame, each bundled module named by
+    its author's file name (``MyLaw.py`` for the FMU's ``resources/MyLaw_<hash16>.py``; the line
+    numbers are the author's: the build rewrites only import lines, one line for one)."""
+    frames = traceback.extract_tb(exc.__traceback__.tb_next)
+    for frame in frames:
+        base = frame.filename.rpartition("/")[2]
+        bundled = _BUNDLED_NAME.match(base)
+        if bundled:
+            frame.filename = f"{bundled['stem']}.py"
+    return "".join(["Traceback (most recent call last):\n", *frames.format(),
+                    *traceback.format_exception_only(type(exc), exc)])
+
+
 def _copy_mutable(source, target):
     """target[name] = _copied(value) for each value of `source` that is not of a _SCALARS type
     (the state's scalars are shared: a snapshot costs a dict copy and a few list copies)."""
@@ -124,6 +235,21 @@ class AotvSlave(Fmi2Slave):
 
     default_step = 0.1
     default_stop = 300.0
+
+    def __init_subclass__(cls, **kwargs):
+        """Check the class when it is defined: a concrete FMU class (no abstract method left)
+        defines ``do_step`` in its own body, since pythonfmu 0.7's runtime finds the slave class
+        through the class that owns do_step (with an inherited one, instantiation corrupts the
+        FMU's module and every later instance fails). Each own do_step logs the traceback of an
+        exception it raises (`_logging_traceback`)."""
+        super().__init_subclass__(**kwargs)
+        own = vars(cls).get("do_step")
+        if own is not None and not getattr(own, "__isabstractmethod__", False):
+            cls.do_step = _logging_traceback(own)
+        elif own is None and not _abstract_names(cls):
+            raise TypeError(f"class {cls.__qualname__} ({cls.__module__}) must define do_step itself, "
+                            "not inherit it: add `def do_step(self, current_time, step_size)` to the class "
+                            "(e.g. `return self.advance(current_time, step_size)`)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -193,8 +319,10 @@ class AotvSlave(Fmi2Slave):
                                   float("inf") if high is None else high)
 
     def _register(self, var, unit):
-        if unit not in UNIT_EXPONENTS:
-            raise ValueError(f"unit {unit!r} of {var.name} is not in UNIT_EXPONENTS")
+        try:
+            unit_exponents(unit)
+        except ValueError as exc:
+            raise ValueError(f"{var.name}: {exc}") from None
         self.register_variable(var)
         self._units[var.name] = unit
         if var.causality == Fmi2Causality.output:
@@ -309,7 +437,7 @@ class AotvSlave(Fmi2Slave):
         level deep by `_copied` (an adapter replaces or mutates its state at most one level deep;
         tests/test_fmus_alone.py::test_fmu_state_round_trip checks every FMU). pythonfmu calls this for fmi2GetFMUstate."""
         state = self.__dict__.copy()  # then only the few mutable values copied in Python
-        for name in _NOT_STATE.intersection(state):
+        for name in NOT_STATE.intersection(state):
             del state[name]
         _copy_mutable(state, state)
         return state
@@ -362,5 +490,5 @@ class AotvSlave(Fmi2Slave):
         definitions = Element("UnitDefinitions")
         for unit in sorted(set(self._units.values())):
             node = SubElement(definitions, "Unit", name=unit)
-            SubElement(node, "BaseUnit", {k: str(v) for k, v in UNIT_EXPONENTS[unit].items()})
+            SubElement(node, "BaseUnit", {k: str(v) for k, v in unit_exponents(unit).items()})
         return definitions
