@@ -88,6 +88,20 @@ def _time_options(command):
     return command
 
 
+def _step_timeout(default_text="the scenario's step_timeout, else none"):
+    """The --step-timeout option (s, positive)."""
+    return click.option("--step-timeout", type=click.FloatRange(min=0, min_open=True), metavar="SECONDS",
+                        help=f"Wall-clock limit of one communication step: a step that takes longer (a hung FMU) "
+                             f"fails the run, its rows kept [{default_text}].")
+
+
+def _limited(scenario, step_timeout):
+    """The scenario with --step-timeout applied (when given)."""
+    import dataclasses
+
+    return scenario if step_timeout is None else dataclasses.replace(scenario, step_timeout=step_timeout)
+
+
 _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")}
 
 
@@ -100,7 +114,8 @@ _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")
 @click.option("--format", "series_format", type=click.Choice(sorted(_FORMATS)), default="csv", show_default=True,
               help="Time series file: timeseries.csv, timeseries.parquet (units in the field metadata) or both.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
-def run(scenario, out, sets, step, start, stop, series_format, no_plots):
+@_step_timeout()
+def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_timeout):
     """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
@@ -108,7 +123,8 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
     from aotv_cosim.engine.scenario import load_scenario, parse_sets
 
     def body():
-        loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
+        loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop)),
+                          step_timeout)
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         console.print_summary(summary, out_dir)

@@ -110,6 +110,8 @@ class Scenario:
     """Campaign (input, output) column pairs plotted against each other."""
     skipped: list = field(default_factory=list)
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
+    step_timeout: "float | None" = None
+    """Wall-clock limit of one communication step, s (`engine.watchdog`); None: no limit."""
 
 
 def parse_sets(pairs, origin="--set") -> dict:
@@ -177,6 +179,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         outcome=doc.get("montecarlo", {}).get("outcome"),
         report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
+        step_timeout=doc.get("step_timeout"),
     )
     _check_times(scenario)
     _check_signals(scenario, doc)
