@@ -265,7 +265,11 @@ def build_fmus(out):
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @_time_options
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop):
+@_step_timeout("the scenario's step_timeout, else 60")
+@click.option("--max-rss", type=click.FloatRange(min=0, min_open=True), default=2048, show_default=True,
+              metavar="MIB", help="Resident memory a local worker may use, MiB: a run that passes it is recorded "
+                                  "failed and its worker replaced.")
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, start, stop, step_timeout, max_rss):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report_tables import console_table
@@ -280,7 +284,8 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
             check_reachable(scheduler)
         summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, resume=resume,
-                                                    sets=parse_sets(sets) or None, start=start, stop=stop))
+                                                    sets=parse_sets(sets) or None, start=start, stop=stop,
+                                                    step_timeout=step_timeout, max_rss=max_rss * 2**20))
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")

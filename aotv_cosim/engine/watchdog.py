@@ -71,9 +71,9 @@ def limited(advance, limit):
     """`advance(t, step, t_new)` with every call limited to `limit` s of wall-clock time (None or 0:
     `advance` itself). In a campaign worker each step also sets `HEARTBEAT`."""
     beat = HEARTBEAT
-    if not limit and beat is None:
-        return advance
     guard = limit and threading.current_thread() is threading.main_thread()
+    if not guard and beat is None:
+        return advance
     setitimer, real, clock = signal.setitimer, signal.ITIMER_REAL, time.monotonic
 
     def guarded(t, step, t_new):
