@@ -3,7 +3,7 @@ grows its memory without bound, as user code can.
 
 kind: 0 behaves; 1 hangs in Python (a busy loop); 2 hangs where no signal reaches it (SIGALRM
 blocked, then a sleep: like native code that never returns to the interpreter); 3 dereferences
-NULL (SIGSEGV); 4 aborts (SIGABRT); 5 allocates and touches 64 MiB per step until stopped; 6 hangs
+NULL (SIGSEGV); 4 aborts (SIGABRT); 5 allocates and touches 64 MiB per step (and takes 50 ms) until stopped; 6 hangs
 in a sleep. kind -1 chooses by `choice` (a draw in [0, 1), so a campaign's seed decides):
 [0, 0.05) 1, [0.05, 0.10) 2, [0.10, 0.125) 3, [0.125, 0.15) 4, [0.15, 0.20) 5, else 0: 10 % hang,
 5 % crash, 5 % exceed a memory limit.
@@ -62,6 +62,7 @@ SOURCE = textwrap.dedent('''
                 os.abort()
             if kind == 5:
                 self.hoard.append(bytearray(b"x") * (64 << 20))
+                time.sleep(0.05)
             if kind == 6:
                 time.sleep(3600)
             return True
