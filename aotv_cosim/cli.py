@@ -34,10 +34,25 @@ def _fail(exc):
     sys.exit(exc.exit_status)
 
 
+def _closed_pipe():
+    """The reader of stdout has gone (`aotv-cosim run ... | head`): end quietly with 141 (128 +
+    SIGPIPE, what a shell shows for a writer killed by the signal). stdout and stderr are pointed at
+    /dev/null first, so neither a last message nor the interpreter's final flush meets the pipe."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            os.dup2(devnull, stream.fileno())
+        except (OSError, ValueError):  # a stream without a descriptor (a test runner's)
+            pass
+    sys.exit(128 + signal.SIGPIPE)
+
+
 def _guard(function):
     """Run a command body, turning exceptions into one-line errors."""
     try:
         return function()
+    except BrokenPipeError:
+        _closed_pipe()
     except AotvError as exc:
         if _Context.debug:
             raise
