@@ -138,7 +138,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
     from aotv_cosim.engine.scenario import load_scenario, parse_sets
 
     def body():
-        loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop)),
+        loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets, file=scenario), step, start, stop)),
                           step_timeout)
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
@@ -299,8 +299,10 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, star
             check_reachable(scheduler)
         summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, resume=resume,
-                                                    sets=parse_sets(sets) or None, start=start, stop=stop,
+                                                    sets=parse_sets(sets, file=scenario) or None, start=start, stop=stop,
                                                     step_timeout=step_timeout, max_rss=max_rss * 2**20))
+        for warning in summary["warnings"]:
+            click.echo(f"warning: {warning}", err=True)
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
@@ -360,7 +362,7 @@ def export_ssp(scenario, out, sets, step):
     from aotv_cosim.ssp.export import export_ssp as write_ssp
 
     def body():
-        loaded = load_scenario(scenario, parse_sets(sets), step)
+        loaded = load_scenario(scenario, parse_sets(sets, file=scenario), step)
         path = write_ssp(loaded, writable_file(out, "--out"))
         click.echo(f"{path}: {len(loaded.system.components)} components, "
                    f"{len(loaded.system.connections)} connections, "

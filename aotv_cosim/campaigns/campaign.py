@@ -3,7 +3,7 @@
 import time
 from pathlib import Path
 
-from aotv_cosim.engine import interrupts, watchdog
+from aotv_cosim.engine import interrupts, plausibility, watchdog
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.campaigns import backends, campaign_report, report
@@ -110,6 +110,7 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
         "runs_this_session": len(rows) - (runs - len(todo)), "wall_time_s": wall,
         "runs_per_s": (len(rows) - (runs - len(todo))) / wall if wall > 0 else None,
         "statuses": statuses,
+        "warnings": plausibility.unit_slips(scenario.system),
         "limits": {"step_timeout_s": limits[0], "max_rss_mib": limits[1] / 2**20 if limits[1] else None},
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
                    for r in rows if r["status"] != "completed"][:50],

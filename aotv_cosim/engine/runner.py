@@ -7,7 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__
-from aotv_cosim.engine import interrupts, plots
+from aotv_cosim.engine import interrupts, plausibility, plots
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.engine.master import Master, signals_to_read
 from aotv_cosim.engine.outdir import claimed
@@ -138,6 +138,7 @@ def _simulate(scenario, open_series, progress):
         "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
         "plots": [],
     }
+    summary["warnings"] += plausibility.run_warnings(scenario, summary)
     return Run(summary, columns, times, rows)
 
 
