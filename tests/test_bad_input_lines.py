@@ -1,5 +1,6 @@
-"""A damaged member inside an FMU (a corrupt deflate stream) is bad input: exit 2 and one line
-naming the member and the damage, not exit 3 and zlib's raw message."""
+"""Bad input lines: a damaged member inside an FMU (a corrupt deflate stream) gives exit 2 and one
+line naming the member and the damage, not exit 3 and zlib's raw message; a malformed --set names
+the scenario; --resume never overwrites rows it cannot attribute to a campaign."""
 
 import zipfile
 
@@ -9,6 +10,7 @@ from click.testing import CliRunner
 from aotv_cosim.cli import main
 from aotv_cosim.engine.archives import extract_to
 from aotv_cosim.engine.errors import InputError
+from conftest import NOMINAL, SCENARIOS
 from test_corpus import CORPUS, crafted_archives  # noqa: F401 (writes the crafted archives)
 
 
@@ -27,3 +29,20 @@ def test_extracting_a_damaged_archive_leaves_nothing(tmp_path):
     with pytest.raises(InputError, match="cannot extract bad_deflate_binary.fmu: invalid deflate data: invalid block type"):
         extract_to(archive, tmp_path / "x")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_malformed_set_names_the_scenario(tmp_path):
+    result = CliRunner().invoke(main, ["run", str(NOMINAL), "--set", "h0=1", "--out", str(tmp_path / "o")])
+    assert result.exit_code == 2
+    assert result.stderr == (f"error: {NOMINAL}: --set: cannot read 'h0=1': no component.variable before an '='; "
+                             "write component.variable=value\n")
+
+
+def test_resume_keeps_rows_of_an_unknown_campaign(tmp_path):
+    (tmp_path / "rows.csv").write_text("run,status\n0,completed\n")
+    result = CliRunner().invoke(main, ["montecarlo", str(SCENARIOS / "montecarlo_time_linear_density.json"),
+                                       "--runs", "2", "--out", str(tmp_path), "--resume"])
+    assert result.exit_code == 2
+    assert result.stderr.startswith(f"error: {tmp_path / 'rows.csv'}: --resume: cannot resume: rows.csv is here but "
+                                    "campaign.json")
+    assert (tmp_path / "rows.csv").read_text() == "run,status\n0,completed\n"
