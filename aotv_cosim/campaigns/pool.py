@@ -8,11 +8,10 @@ pipe or process stirs, looks at each busy worker:
 
 - its process ended (SIGSEGV, abort, os._exit): the task fails with `WorkerLost` "crash: ...",
   the signal or exit status named;
-- its current step has lasted more than `step_limit + KILL_GRACE` s (the step start is published
-  by the worker in shared memory, `watchdog.HEARTBEAT`; a step that hangs in Python is ended
-  sooner inside the worker by the step watchdog, so this catches what a signal cannot end:
-  native code): the worker is killed, the task fails with "step timeout: ..." naming the step's
-  time;
+- its step count (published by the worker in shared memory, `watchdog.SHARED`) has not moved
+  for `step_limit + KILL_GRACE` s while a step is under way (a step that hangs in Python is ended
+  sooner inside the worker by the step watchdog, so this catches what a signal cannot end: native
+  code): the worker is killed, the task fails with "step timeout: ..." naming the step's time;
 - its resident set size (/proc/PID/statm, Linux) is above `max_rss` bytes: the worker is killed,
   the task fails with "memory: ...".
 
@@ -23,6 +22,7 @@ destructors), and returns their exit codes.
 """
 
 import collections
+import math
 import os
 import signal
 import time
@@ -61,11 +61,11 @@ class Task:
         return self.value
 
 
-def _serve(conn, heartbeat, initializer, initargs, finalizer):
+def _serve(conn, progress, initializer, initargs, finalizer):
     """A worker's life: run (fn, args) calls received on `conn` until None or the pipe closes."""
     if initializer is not None:
         initializer(*initargs)
-    watchdog.HEARTBEAT = heartbeat
+    watchdog.SHARED = progress
     try:
         while True:
             try:
@@ -90,13 +90,24 @@ def _serve(conn, heartbeat, initializer, initargs, finalizer):
 
 class _Worker:
     def __init__(self, context, initializer, initargs, finalizer):
-        self.heartbeat = context.RawArray("d", 2)
+        self.progress = context.RawArray("d", 2)  # steps begun, time of the last (NaN: none under way)
+        self.progress[1] = math.nan
         self.conn, child = context.Pipe()
         self.process = context.Process(target=_serve, daemon=True,
-                                       args=(child, self.heartbeat, initializer, initargs, finalizer))
+                                       args=(child, self.progress, initializer, initargs, finalizer))
         self.process.start()
         child.close()
         self.task = None
+        self.seen = (None, time.monotonic())
+        """(step count last seen, monotonic time it was first seen)."""
+
+    def stalled(self) -> float:
+        """Seconds the worker's current step has run without the step count moving (0 outside a
+        run's steps)."""
+        count, now = self.progress[0], time.monotonic()
+        if math.isnan(self.progress[1]) or count != self.seen[0]:
+            self.seen = (count, now)
+        return now - self.seen[1]
 
     def rss(self) -> int:
         """Resident set size in bytes (0 where /proc is not available)."""
@@ -201,10 +212,10 @@ class WorkerPool:
         if not worker.process.is_alive():
             worker.process.join()
             return f"crash: the worker process {_death(worker.process.exitcode)} during this run (worker replaced)"
-        began, t = worker.heartbeat[0], worker.heartbeat[1]
-        if self.step_limit and began and time.monotonic() - began > self.step_limit + watchdog.KILL_GRACE:
-            return (f"step timeout: the step at t = {t:.6g} s did not end within {self.step_limit:g} s and "
-                    "a signal could not stop it (native code); the worker was killed and replaced")
+        if self.step_limit and worker.stalled() > self.step_limit + watchdog.KILL_GRACE:
+            return (f"step timeout: the step at t = {worker.progress[1]:.6g} s did not end within "
+                    f"{self.step_limit:g} s and a signal could not stop it (native code); the worker was "
+                    "killed and replaced")
         if self.max_rss and worker.rss() > self.max_rss:
             return (f"memory: the worker's resident memory passed the limit of {self.max_rss / 2**20:g} MiB "
                     "during this run; the worker was killed and replaced")

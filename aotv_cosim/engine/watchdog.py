@@ -4,24 +4,28 @@ FMUs run in the master's own interpreter (FMPy calls the FMU's C entry points; a
 `do_step` is Python run by this interpreter). A step that hangs is ended in one of two ways:
 
 - Python code that hangs (a loop, a sleep, a wait on a lock or a socket) is interrupted in the
-  process: `limited` arms a one-shot `ITIMER_REAL` before each step, and its SIGALRM handler raises
-  `StepLimitReached` in whatever the main thread is running. Inside an FMU's `do_step` pythonfmu reports the
-  exception as fmi2Fatal, the master raises its `SimulationError` naming that component, and
-  `limited` turns it into `StepTimeout` ("step timeout: fmi2DoStep of COMP did not return within
-  N s at t = T s"): the run is `failed`, its rows up to t kept. A blocking system call is
-  interrupted too (Python retries it only after the handler, which raises).
+  process. Each step counts itself in `PROGRESS` (three list stores, no system call: a
+  `setitimer` per step cost 13 us a step on the development machine, 10 % of a 4-FMU step); a
+  monitor thread started by `armed` looks every `limit / 4` s (at most 1 s) and, when the same
+  step has run longer than the limit, sends SIGALRM to the main thread. Its handler raises `StepLimitReached` in whatever the main
+  thread runs, which for a hung FMU is the FMU's own code (a blocking sleep or wait returns with
+  EINTR first): pythonfmu reports the exception as fmi2Fatal, the master raises its
+  `SimulationError` naming that component, and `limited` turns it into `StepTimeout` ("step
+  timeout: fmi2DoStep of COMP did not return within N s at t = T s"): the run is `failed`, its
+  rows up to t kept. The limit is met within limit + limit / 4.
 - Native code that never returns to the interpreter, or that blocks SIGALRM, cannot be ended from
-  inside the process. Campaign workers publish the wall-clock time and simulation time at which
-  their current step began (`HEARTBEAT`, shared memory); the campaign kills a worker whose step
-  has lasted `limit + KILL_GRACE` s, records the run `failed` with the step's time, and starts a
-  new worker (`campaigns.backends`). A single `aotv-cosim run` has no such outer process.
+  inside the process. In a campaign worker the monitor also copies `PROGRESS` into `SHARED`,
+  memory its campaign reads: the campaign kills a worker whose published step count has not
+  moved for `limit + KILL_GRACE` s during a step (a native call that holds the GIL also stops the
+  monitor, which is as good), records the run `failed` with the step's time, and starts a new
+  worker (`campaigns.pool`). A single `aotv-cosim run` has no such outer process.
 
-Only the main thread can receive signals, so the in-process interruption is active there only (the
-command line, campaign workers, a notebook's own cell); `limited` leaves a run in another thread
-unguarded.
+Only the main thread receives signals, so the watchdog guards runs made in the main thread (the
+command line, campaign workers, a notebook's own cell); a run in another thread is not limited.
 """
 
 import contextlib
+import math
 import signal
 import threading
 import time
@@ -34,9 +38,11 @@ The slowest shipped law (predictive guidance) takes well under a second per step
 KILL_GRACE = 5.0
 """Seconds past the limit after which a campaign kills a worker whose step the signal did not end."""
 
-HEARTBEAT = None
-"""In a campaign worker: a shared array of two doubles, (monotonic time the current step began, its
-simulation time); 0 in the first while no step is under way. None elsewhere."""
+PROGRESS = [0, 0.0, False]
+"""(steps begun, simulation time of the last one in s, whether a step is under way)."""
+SHARED = None
+"""In a campaign worker: an array of two doubles in shared memory, (steps begun, time of the step
+under way, NaN when none), copied from PROGRESS by the monitor. None elsewhere."""
 
 
 class StepTimeout(SimulationError):
@@ -51,8 +57,9 @@ _fired = []
 
 
 def _alarm(signum, frame):
-    _fired.append(True)
-    raise StepLimitReached()
+    if PROGRESS[2]:  # an alarm arriving after its step ended does nothing
+        _fired.append(True)
+        raise StepLimitReached()
 
 
 def timeout_error(limit: float, t: float, component=None, file=None) -> StepTimeout:
@@ -68,29 +75,24 @@ def timeout_error(limit: float, t: float, component=None, file=None) -> StepTime
 
 
 def limited(advance, limit):
-    """`advance(t, step, t_new)` with every call limited to `limit` s of wall-clock time (None or 0:
-    `advance` itself). In a campaign worker each step also sets `HEARTBEAT`."""
-    beat = HEARTBEAT
-    guard = limit and threading.current_thread() is threading.main_thread()
-    if not guard and beat is None:
+    """`advance(t, step, t_new)` with every call limited to `limit` s of wall-clock time by the
+    monitor of `armed` (None or 0, or outside the main thread: `advance` itself)."""
+    if not limit or threading.current_thread() is not threading.main_thread():
         return advance
-    setitimer, real, clock = signal.setitimer, signal.ITIMER_REAL, time.monotonic
+    progress = PROGRESS
 
     def guarded(t, step, t_new):
-        if beat is not None:
-            beat[1], beat[0] = t, clock()
-        if not guard:
-            return advance(t, step, t_new)
-        _fired.clear()
-        setitimer(real, limit)
+        progress[0] += 1
+        progress[1] = t
         try:
+            progress[2] = True
             advance(t, step, t_new)
         except (SimulationError, StepLimitReached) as exc:
             if not _fired:
                 raise
             raise timeout_error(limit, t, *_stepping(exc)) from None
         finally:
-            setitimer(real, 0)
+            progress[2] = False
     return guarded
 
 
@@ -109,17 +111,39 @@ def _stepping(exc):
     return (found.name, found.info.path.name) if found is not None else (None, None)
 
 
+def _monitor(limit, stop, main):
+    """Send SIGALRM to the main thread (`main`, its ident) once a step has run `limit` s; publish
+    the progress to SHARED (when set) at each look."""
+    poll, seen, since = min(1.0, limit / 4), None, time.monotonic()
+    while not stop.wait(poll):
+        count, t, stepping = PROGRESS
+        if SHARED is not None:
+            SHARED[0], SHARED[1] = count, t if stepping else math.nan
+        if count != seen or not stepping:
+            seen, since = count, time.monotonic()
+        elif time.monotonic() - since > limit:
+            signal.pthread_kill(main, signal.SIGALRM)
+            since = math.inf  # once per step: a step that ignores it is the campaign's to end
+
+
 @contextlib.contextmanager
 def armed(limit):
-    """Install the SIGALRM handler for a run limited to `limit` s per step (main thread only; else,
-    or without a limit, nothing). The previous handler is put back after the run."""
-    guard = limit and threading.current_thread() is threading.main_thread()
-    previous = signal.signal(signal.SIGALRM, _alarm) if guard else None
+    """Limit the steps of the run made inside to `limit` s each (main thread only; else, or without
+    a limit, nothing): the SIGALRM handler and the monitor thread, removed after the run."""
+    if not limit or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    _fired.clear()
+    previous = signal.signal(signal.SIGALRM, _alarm)
+    stop = threading.Event()
+    watcher = threading.Thread(target=_monitor, args=(limit, stop, threading.get_ident()),
+                               name="aotv-step-watchdog", daemon=True)
+    watcher.start()
     try:
         yield
     finally:
-        if guard:
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, previous if previous is not None else signal.SIG_DFL)
-        if HEARTBEAT is not None:  # no step under way until the next run's first
-            HEARTBEAT[0] = 0.0
+        stop.set()
+        watcher.join()
+        if SHARED is not None:
+            SHARED[1] = math.nan  # no step under way until the next run's first
+        signal.signal(signal.SIGALRM, previous if previous is not None else signal.SIG_DFL)
