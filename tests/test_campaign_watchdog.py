@@ -34,13 +34,14 @@ def kind_of(choice: float) -> int:
     return next((k for bound, k in BOUNDS if choice < bound), 0)
 
 
-def cause(kind: int, t: float, limit: float) -> str:
-    """The start of the `error` of a run of `kind` misbehaving from `t` s, with a step limit of `limit` s."""
+def cause(kind: int, t: float, limit: float, rss_mib: float) -> str:
+    """The start of the `error` of a run of `kind` misbehaving from `t` s, with a step limit of `limit` s
+    and a memory limit of `rss_mib` MiB."""
     return {1: f"Misbehaving.fmu: mis: step timeout: fmi2DoStep of mis did not return within {limit:g} s at t = {t:g} s",
             2: f"step timeout: the step at t = {t:g} s did not end within {limit:g} s and a signal could not stop it",
             3: "crash: the worker process died of SIGSEGV during this run",
             4: "crash: the worker process died of SIGABRT during this run",
-            5: f"memory: the worker's resident memory passed the limit of {MAX_RSS_MIB} MiB during this run"}[kind]
+            5: f"memory: the worker's resident memory passed the limit of {rss_mib:g} MiB during this run"}[kind]
 
 
 @pytest.fixture(scope="module")
@@ -52,12 +53,12 @@ def _rows(folder):
     return list(csv.DictReader(io.StringIO((folder / "rows.csv").read_text())))
 
 
-def _check_row(row, t, limit):
+def _check_row(row, t, limit, rss_mib=MAX_RSS_MIB):
     kind = kind_of(float(row["dispersed.mis.choice"]))
     if kind == 0:
         assert row["status"] == "completed", row
     else:
-        assert row["status"] == "failed" and row["error"].startswith(cause(kind, t, limit)), (kind, row)
+        assert row["status"] == "failed" and row["error"].startswith(cause(kind, t, limit, rss_mib)), (kind, row)
     return kind
 
 
@@ -95,6 +96,26 @@ def _stress_scenario(folder, fmu):
     doc.update(system="stress_wiring.json", step_timeout=STRESS_LIMIT)
     doc["dispersions"]["mis.choice"] = {"distribution": "uniform", "low": 0.0, "high": 1.0}
     return write_json(folder / "stress.json", doc)
+
+
+def test_a_benchmark_goes_on_past_crashing_runs(misbehaving, tmp_path):
+    """A set of two laws, one crashing in its runs (choice in [0.10, 0.15): SIGSEGV or abort), the
+    other not: the first law's runs are failed rows with their causes, the second's all complete."""
+    from aotv_cosim.campaigns.benchmark import run_benchmark
+
+    systems = tmp_path / "set" / "systems"
+    systems.mkdir(parents=True)
+    base = json.loads(_stress_scenario(systems, misbehaving).read_text())
+    base["system"] = "systems/stress_wiring.json"
+    base["dispersions"]["mis.choice"] = {"distribution": "uniform", "low": 0.10, "high": 0.15}
+    for law, kind in (("misbehaving", -1), ("behaving", 0)):
+        write_json(tmp_path / "set" / f"{law}.json", {**base, "parameters": {"mis.kind": kind}})
+    result = run_benchmark(tmp_path / "set", 3, tmp_path / "out", workers=2, seed=1, progress=False)
+    bad = _rows(tmp_path / "out" / "misbehaving")
+    assert {_check_row(r, 100.0, STRESS_LIMIT) for r in bad} == {3, 4} and len(bad) == 3
+    assert all(r["status"] == "failed" and r["outcome"] == "failed" for r in bad)
+    assert all(r["status"] == "completed" for r in _rows(tmp_path / "out" / "behaving"))
+    assert {card["law"]: card["failed"] for card in result["scorecard"]} == {"behaving": 0, "misbehaving": 3}
 
 
 def _campaign(scenario, out, *extra):
