@@ -23,7 +23,8 @@ CAMPAIGN_FILES = ("rows.csv", "rows.csv.part", "rows.parquet", "rows.parquet.par
 
 
 def batches_of(items, workers):
-    """Batches of consecutive runs, shrinking to the end (guided scheduling): each holds an eighth
+    """Batches of consecutive runs (Dask tasks; the local pool takes them a run at a time, so that
+    a lost worker costs one run), shrinking to the end (guided scheduling): each holds an eighth
     of a worker's share of the runs still to batch, at most 25 and at least 1. A batch amortizes
     the task overhead, and the last ones are single runs, so no worker idles long while another
     finishes a batch: with even batches of 12, 200 predictive-law runs on 2 workers kept the
