@@ -1,10 +1,13 @@
 """Local campaign workers that can be replaced: a run that hangs, crashes its process or grows past a
 memory limit costs that run and its worker, not the campaign.
 
-Each worker is a process with a pipe of its own; it runs one task at a time (a campaign sends one
-run per task) and answers with its result. The parent drives the pool from its own thread (no
-helper thread, so every worker is forked from the main thread) and, every `POLL` s and whenever a
-pipe or process stirs, looks at each busy worker:
+Each worker is a process with a pipe of its own; it runs its tasks one at a time (a campaign sends
+one run per task) and answers each with its result. Every worker is given `DEPTH` tasks ahead, so
+it starts the next run without waiting for the parent to read the last row (on a loaded machine
+that wait left workers idle: 30 % more wall time on 100 runs). The parent drives the pool from its
+own thread (no helper thread, so every worker is forked from the main thread) and, every `POLL` s
+and whenever a pipe or process stirs, looks at each busy worker; its first unanswered task is the
+run under way:
 
 - its process ended (SIGSEGV, abort, os._exit): the task fails with `WorkerLost` "crash: ...",
   the signal or exit status named;
@@ -15,7 +18,8 @@ pipe or process stirs, looks at each busy worker:
 - its resident set size (/proc/PID/statm, Linux) is above `max_rss` bytes: the worker is killed,
   the task fails with "memory: ...".
 
-A lost worker is replaced at once; the other workers and their tasks are untouched. On
+A lost worker is replaced at once, the tasks it had not started go back to the queue, and the
+other workers and their tasks are untouched. On
 `terminate` (an interruption) every worker is killed; `shutdown` asks them to exit, which they do
 after closing what they hold (`finalizer`, e.g. FMU instances, so no library is left to exit-time
 destructors), and returns their exit codes.
@@ -33,6 +37,8 @@ from aotv_cosim.engine.interrupts import Interrupted
 
 POLL = 0.2
 """Seconds between two looks at the workers' steps and memory, and at the interruption flag."""
+DEPTH = 2
+"""Tasks a worker holds: the one under way and the next."""
 DEFAULT_MAX_RSS = 2048 * 2**20
 """Resident memory a campaign worker may use, bytes (2 GiB; a worker running the shipped laws holds
 about 150-250 MiB)."""
@@ -52,6 +58,7 @@ class Task:
 
     def finish(self, value=None, error=None):
         self.done, self.value, self.error = True, value, error
+        self.pool.finished.append(self)
 
     def result(self):
         while not self.done:
@@ -97,7 +104,8 @@ class _Worker:
                                        args=(child, self.progress, initializer, initargs, finalizer))
         self.process.start()
         child.close()
-        self.task = None
+        self.tasks = collections.deque()
+        """Tasks sent and not answered, oldest (the one under way) first."""
         self.seen = (None, time.monotonic())
         """(step count last seen, monotonic time it was first seen)."""
 
@@ -145,6 +153,8 @@ class WorkerPool:
         self.start_args = (initializer, initargs, finalizer)
         self.step_limit, self.max_rss = step_limit, max_rss
         self.queue = collections.deque()
+        self.finished = collections.deque()
+        """Tasks done since `completed` last looked."""
         self.workers = []
         self.exitcodes = []
         """Exit codes of the workers that ended by `shutdown` (0 each when they exit cleanly)."""
@@ -156,19 +166,22 @@ class WorkerPool:
 
     def completed(self, tasks):
         """Yield `tasks` as they finish; raise Interrupted within POLL s of a SIGINT/SIGTERM."""
-        pending = list(tasks)
+        pending = set(tasks)
         while pending:
             self.poll(POLL)
             if interrupts.received():
                 raise Interrupted(interrupts.name())
-            yield from [t for t in pending if t.done]
-            pending = [t for t in pending if not t.done]
+            while self.finished:
+                task = self.finished.popleft()
+                if task in pending:
+                    pending.remove(task)
+                    yield task
 
     def poll(self, timeout):
         """Give queued tasks to idle workers, wait up to `timeout` s for an answer, collect the
         answers, and replace the workers that crashed, hung or outgrew the memory limit."""
         self._dispatch()
-        busy = [w for w in self.workers if w.task is not None]
+        busy = [w for w in self.workers if w.tasks]
         if busy:
             connection.wait([w.conn for w in busy] + [w.process.sentinel for w in busy], timeout)
         for worker in busy:
@@ -176,36 +189,42 @@ class WorkerPool:
         self._dispatch()
 
     def _dispatch(self):
-        """Send queued tasks to idle workers, starting workers up to `size` (an idle worker that
-        died meanwhile is replaced; its task goes back to the queue)."""
-        while self.queue and (len(self.workers) < self.size or any(w.task is None for w in self.workers)):
-            worker = next((w for w in self.workers if w.task is None), None)
-            if worker is None:
-                worker = _Worker(self.context, *self.start_args)
-                self.workers.append(worker)
-            worker.task = self.queue.popleft()
+        """Send queued tasks to the workers holding fewer than DEPTH, the least loaded first,
+        starting workers up to `size` (a worker found dead meanwhile is given up: its tasks go back
+        to the queue, and `_collect` says why if it was running one)."""
+        while self.queue:
+            if len(self.workers) < self.size:
+                self.workers.append(_Worker(self.context, *self.start_args))
+            worker = min(self.workers, key=lambda w: len(w.tasks))
+            if len(worker.tasks) >= DEPTH:
+                return
+            task = self.queue.popleft()
             try:
-                worker.conn.send(worker.task.call)
+                worker.conn.send(task.call)
             except OSError:
-                self.queue.appendleft(worker.task)
-                worker.kill()
-                self.workers.remove(worker)
+                self.queue.appendleft(task)
+                self._collect(worker)
+                return
+            worker.tasks.append(task)
 
     def _collect(self, worker):
+        """Finish the tasks `worker` answered; give the worker up if `_lost` says so (its task
+        under way fails with the cause, the others go back to the queue)."""
         try:
-            if worker.conn.poll():
+            while worker.tasks and worker.conn.poll():
                 value, error = worker.conn.recv()
-                worker.task.finish(value, error)
-                worker.task = None
-                return
+                worker.tasks.popleft().finish(value, error)
         except (EOFError, OSError):
             pass  # the process died; its exit code says how
-        cause = self._lost(worker)
-        if cause is not None:
-            task = worker.task
-            worker.kill()
-            self.workers.remove(worker)
-            task.finish(error=WorkerLost(cause))
+        cause = self._lost(worker) if worker.tasks else None
+        if cause is None and (worker.tasks or worker.process.is_alive()):
+            return
+        worker.kill()
+        self.workers.remove(worker)
+        if worker.tasks:
+            current = worker.tasks.popleft()
+            self.queue.extendleft(reversed(worker.tasks))
+            current.finish(error=WorkerLost(cause))
 
     def _lost(self, worker):
         """Why a busy worker is to be given up, or None while it is well."""
@@ -231,7 +250,7 @@ class WorkerPool:
         """Ask every worker to exit (idle ones at once; with `wait`, busy ones after their task)
         and record their exit codes; queued tasks are dropped."""
         self.queue.clear()
-        while wait and any(w.task is not None for w in self.workers):
+        while wait and any(w.tasks for w in self.workers):
             self.poll(POLL)
         for worker in self.workers:
             try:
