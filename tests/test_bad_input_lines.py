@@ -20,13 +20,15 @@ def test_a_corrupt_deflate_stream_is_named(case, member):
     result = CliRunner().invoke(main, ["validate", str(CORPUS / case)])
     assert result.exit_code == 2
     line, = result.stderr.splitlines()
-    assert f": member {member}" in line and "is corrupt (invalid deflate data: invalid block type); give an intact" in line
+    assert f": member {member}" in line
+    assert "is corrupt (invalid deflate data: invalid block type); give an intact" in line
 
 
 def test_extracting_a_damaged_archive_leaves_nothing(tmp_path):
     archive = CORPUS / "fmus" / "bad_deflate_binary.fmu"
     assert zipfile.is_zipfile(archive)
-    with pytest.raises(InputError, match="cannot extract bad_deflate_binary.fmu: invalid deflate data: invalid block type"):
+    with pytest.raises(InputError, match="cannot extract bad_deflate_binary.fmu: invalid deflate data: "
+                                         "invalid block type"):
         extract_to(archive, tmp_path / "x")
     assert list(tmp_path.iterdir()) == []
 

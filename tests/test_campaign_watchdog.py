@@ -37,8 +37,10 @@ def kind_of(choice: float) -> int:
 def cause(kind: int, t: float, limit: float, rss_mib: float) -> str:
     """The start of the `error` of a run of `kind` misbehaving from `t` s, with a step limit of `limit` s
     and a memory limit of `rss_mib` MiB."""
-    return {1: f"Misbehaving.fmu: mis: step timeout: fmi2DoStep of mis did not return within {limit:g} s at t = {t:g} s",
-            2: f"step timeout: the step at t = {t:g} s did not end within {limit:g} s and a signal could not stop it",
+    return {1: f"Misbehaving.fmu: mis: step timeout: fmi2DoStep of mis did not return within {limit:g} s at "
+               f"t = {t:g} s",
+            2: f"step timeout: the step at t = {t:g} s did not end within {limit:g} s and a signal could not "
+               "stop it",
             3: "crash: the worker process died of SIGSEGV during this run",
             4: "crash: the worker process died of SIGABRT during this run",
             5: f"memory: the worker's resident memory passed the limit of {rss_mib:g} MiB during this run"}[kind]

@@ -36,7 +36,8 @@ def test_a_run_in_vacuum_says_so_on_the_console(tmp_path):
     result = CliRunner().invoke(main, ["run", str(NOMINAL), "--set", "atmosphere.scale_height=7.045", "--stop", "20",
                                        "--out", str(tmp_path / "out"), "--no-plots"])
     assert result.exit_code == 0, result.output
-    assert "warning: atmosphere.scale_height = 7.045 m is 1000x below its nominal 7045 m; km given for m?" in result.stderr
+    assert ("warning: atmosphere.scale_height = 7.045 m is 1000x below its nominal 7045 m; km given for m?"
+            in result.stderr)
     assert ("warning: vehicle.qbar stayed below 1 Pa over the whole run (max 0 Pa): the vehicle met no atmosphere"
             in result.stderr)
 

@@ -27,7 +27,8 @@ def _scenario(folder, fmu, kind, **extra):
 def test_a_hung_step_fails_the_run_naming_fmu_and_time(misbehaving, tmp_path, kind, where):
     scenario = _scenario(tmp_path, misbehaving, kind, **({"step_timeout": 0.5} if where == "scenario" else {}))
     extra = ["--step-timeout", "0.5"] if where == "option" else []
-    result = CliRunner().invoke(main, ["run", str(scenario), "--out", str(tmp_path / "out"), "--no-plots", *extra])
+    result = CliRunner().invoke(main, ["run", str(scenario), "--out", str(tmp_path / "out"), "--no-plots",
+                                       *extra])
     assert result.exit_code == 1, result.output
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["status"] == "failed"

@@ -50,8 +50,8 @@ def usable_cores() -> int:
 def _pool(workers, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss=DEFAULT_MAX_RSS):
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    return WorkerPool(workers, context, initializer=_started, finalizer=release, step_limit=step_limit, max_rss=max_rss,
-                      initargs=(os.getpid(), max(1, usable_cores() // workers)))
+    return WorkerPool(workers, context, initializer=_started, finalizer=release, step_limit=step_limit,
+                      max_rss=max_rss, initargs=(os.getpid(), max(1, usable_cores() // workers)))
 
 
 def _started(parent_pid, blas_threads):

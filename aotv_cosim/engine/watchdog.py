@@ -7,9 +7,9 @@ FMUs run in the master's own interpreter (FMPy calls the FMU's C entry points; a
   process. Each step counts itself in `PROGRESS` (three list stores, no system call: a
   `setitimer` per step cost 13 us a step on the development machine, 10 % of a 4-FMU step); a
   monitor thread started by `armed` looks every `limit / 4` s (at most 1 s) and, when the same
-  step has run longer than the limit, sends SIGALRM to the main thread. Its handler raises `StepLimitReached` in whatever the main
-  thread runs, which for a hung FMU is the FMU's own code (a blocking sleep or wait returns with
-  EINTR first): pythonfmu reports the exception as fmi2Fatal, the master raises its
+  step has run longer than the limit, sends SIGALRM to the main thread. Its handler raises
+  `StepLimitReached` in whatever the main thread runs, which for a hung FMU is the FMU's own code
+  (a blocking sleep or wait returns with EINTR first): pythonfmu reports the exception as fmi2Fatal, the master raises its
   `SimulationError` naming that component, and `limited` turns it into `StepTimeout` ("step
   timeout: fmi2DoStep of COMP did not return within N s at t = T s"): the run is `failed`, its
   rows up to t kept. The limit is met within limit + limit / 4.
