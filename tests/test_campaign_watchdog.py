@@ -66,7 +66,8 @@ def _check_row(row, t, limit, rss_mib=MAX_RSS_MIB):
 
 def test_every_misbehaviour_is_a_failed_row_and_the_campaign_goes_on(misbehaving, tmp_path, monkeypatch):
     """12 runs drawn in [0, 0.3) (seed 0: hangs of both kinds, both crashes, a leak and good runs),
-    on 2 workers (the worker of a native hang is killed 1 s past the 2 s limit here)."""
+    on 2 workers (the worker of a native hang is killed 1 s past the 2 s limit here); then 7 of them
+    again by --resume, to the same rows."""
     monkeypatch.setattr(watchdog, "KILL_GRACE", 1.0)
     wiring = write_json(tmp_path / "w.json", {"components": {"mis": {"fmu": str(misbehaving), "parameters": {
         "kind": -1, "at": 0.5, "u": 1.0}}}, "connections": []})
@@ -83,6 +84,14 @@ def test_every_misbehaviour_is_a_failed_row_and_the_campaign_goes_on(misbehaving
     assert summary["limits"] == {"step_timeout_s": LIMIT, "max_rss_mib": MAX_RSS_MIB}
     assert not multiprocessing.active_children()
     assert time.monotonic() - t0 < 120
+    # as if interrupted after 5 rows: --resume runs the other 7 to the same rows
+    whole = (tmp_path / "out" / "rows.csv").read_text()
+    (tmp_path / "out" / "rows.csv").write_text("".join(whole.splitlines(keepends=True)[:6]))
+    summary = run_campaign(scenario, 12, tmp_path / "out", workers=2, seed=0, progress=False, make_plots=False,
+                           resume=True, step_timeout=LIMIT, max_rss=MAX_RSS_MIB * 2**20)
+    assert summary["runs_this_session"] == 7 and summary["status"] == "completed"
+    assert (tmp_path / "out" / "rows.csv").read_text() == whole
+    assert not multiprocessing.active_children()
 
 
 def _stress_scenario(folder, fmu):
