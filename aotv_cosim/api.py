@@ -6,11 +6,12 @@ DataFrame's `attrs["units"]`), taken from the FMUs' modelDescriptions. Nothing h
 signal handler or exits the interpreter: a run stopped by Ctrl-C (KeyboardInterrupt) returns a
 Result with status 'interrupted', and any number of calls can be made in one interpreter (a
 notebook). Bad input raises `aotv_cosim.engine.errors.InputError` with the same one-line message the
-command line prints.
+command line prints. Calls from several threads are made one at a time (`_ONE_AT_A_TIME`).
 """
 
 import dataclasses
 import tempfile
+import threading
 from pathlib import Path
 
 from aotv_cosim.engine.errors import InputError
@@ -18,6 +19,12 @@ from aotv_cosim.fmu.describe import describe
 from aotv_cosim.engine.result import Campaign, Result
 
 __all__ = ["run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "Result", "Campaign", "Benchmark"]
+
+_ONE_AT_A_TIME = threading.RLock()
+"""Held by `run` and `montecarlo`: calls from several threads of one process are made one after the
+other, each giving what it gives alone. FMU instantiation changes process-wide state (sys.path,
+pythonfmu's interpreter state, the FMU log router) and a pythonfmu FMU's Python code holds the GIL,
+so concurrent runs would risk that state and not be faster."""
 
 
 def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots=False,
@@ -32,13 +39,13 @@ def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots
     """
     from aotv_cosim.engine.runner import simulate, write_run
 
-    loaded = _scenario(scenario, set, start, stop, step)
-    if out is None:
-        if plots:
-            raise InputError("plots need an output folder", entry="plots",
-                             fix="give out=FOLDER, or plots=False")
-        return Result(*simulate(loaded))
-    return Result(*write_run(loaded, out, make_plots=plots, formats=formats), out=Path(out))
+    if out is None and plots:
+        raise InputError("plots need an output folder", entry="plots", fix="give out=FOLDER, or plots=False")
+    with _ONE_AT_A_TIME:  # loading may build FMUs into the shared cache: in the lock too
+        loaded = _scenario(scenario, set, start, stop, step)
+        if out is None:
+            return Result(*simulate(loaded))
+        return Result(*write_run(loaded, out, make_plots=plots, formats=formats), out=Path(out))
 
 
 def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None, set=None,
@@ -62,7 +69,7 @@ def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None
     path = scenario.path if isinstance(scenario, Scenario) else Path(scenario)
     if workers is None:
         workers = usable_cores()
-    with tempfile.TemporaryDirectory(prefix="aotv_mc_") as tmp:
+    with _ONE_AT_A_TIME, tempfile.TemporaryDirectory(prefix="aotv_mc_") as tmp:
         folder = Path(out) if out is not None else Path(tmp)
         summary = run_campaign(path, runs, folder, workers=workers, seed=seed, scheduler=scheduler,
                                sets=set or None, start=start, stop=stop, progress=False,

@@ -37,10 +37,25 @@ def _fail(exc):
     sys.exit(exc.exit_status)
 
 
+def _closed_pipe():
+    """The reader of stdout has gone (`aotv-cosim run ... | head`): end quietly with 141 (128 +
+    SIGPIPE, what a shell shows for a writer killed by the signal). stdout and stderr are pointed at
+    /dev/null first, so neither a last message nor the interpreter's final flush meets the pipe."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            os.dup2(devnull, stream.fileno())
+        except (OSError, ValueError):  # a stream without a descriptor (a test runner's)
+            pass
+    sys.exit(128 + signal.SIGPIPE)
+
+
 def _guard(function):
     """Run a command body, turning exceptions into one-line errors."""
     try:
         return function()
+    except BrokenPipeError:
+        _closed_pipe()
     except AotvError as exc:
         if _Context.debug:
             raise
@@ -92,6 +107,20 @@ def _time_options(command):
     return command
 
 
+def _step_timeout(default_text="the scenario's step_timeout, else none"):
+    """The --step-timeout option (s, positive)."""
+    return click.option("--step-timeout", type=click.FloatRange(min=0, min_open=True), metavar="SECONDS",
+                        help=f"Wall-clock limit of one communication step: a step that takes longer (a hung FMU) "
+                             f"fails the run, its rows kept [{default_text}].")
+
+
+def _limited(scenario, step_timeout):
+    """The scenario with --step-timeout applied (when given)."""
+    import dataclasses
+
+    return scenario if step_timeout is None else dataclasses.replace(scenario, step_timeout=step_timeout)
+
+
 _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")}
 
 
@@ -104,7 +133,8 @@ _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")
 @click.option("--format", "series_format", type=click.Choice(sorted(_FORMATS)), default="csv", show_default=True,
               help="Time series file: timeseries.csv, timeseries.parquet (units in the field metadata) or both.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
-def run(scenario, out, sets, step, start, stop, series_format, no_plots):
+@_step_timeout()
+def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_timeout):
     """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
@@ -112,7 +142,8 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots):
     from aotv_cosim.engine.scenario import load_scenario, parse_sets
 
     def body():
-        loaded = _with_builds(lambda: load_scenario(scenario, parse_sets(sets), step, start, stop))
+        loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets, file=scenario), step, start, stop)),
+                          step_timeout)
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
         summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
         console.print_summary(summary, out_dir)
@@ -284,7 +315,12 @@ def build_fmus(sources, out):
 @click.option("--keep-series", is_flag=True, help="Keep every run's recorded signals (about 200 rows a run) in "
                                                   "series.parquet and draw the trajectory overlay.")
 @_time_options
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep_series, start, stop):
+@_step_timeout("the scenario's step_timeout, else 60")
+@click.option("--max-rss", type=click.FloatRange(min=0, min_open=True), default=2048, show_default=True,
+              metavar="MIB", help="Resident memory a local worker may use, MiB: a run that passes it is recorded "
+                                  "failed and its worker replaced.")
+def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep_series, start, stop, step_timeout,
+               max_rss):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report_tables import console_table
@@ -299,8 +335,11 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
             check_reachable(scheduler)
         summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, resume=resume,
-                                                    sets=parse_sets(sets) or None, start=start, stop=stop,
-                                                    keep_series=keep_series))
+                                                    sets=parse_sets(sets, file=scenario) or None, start=start, stop=stop,
+                                                    keep_series=keep_series, step_timeout=step_timeout,
+                                                    max_rss=max_rss * 2**20))
+        for warning in summary["warnings"]:
+            click.echo(f"warning: {warning}", err=True)
         rate = summary["runs_per_s"]
         click.echo(f"{runs} runs ({summary['runs_this_session']} this session) in {summary['wall_time_s']:.1f} s"
                    + (f", {rate:.1f} runs/s" if rate else "") + f": {summary['statuses']}")
@@ -442,7 +481,7 @@ def export_ssp(scenario, out, sets, step):
     from aotv_cosim.ssp.export import default_experiment, export_ssp as write_ssp
 
     def body():
-        loaded = load_scenario(scenario, parse_sets(sets), step)
+        loaded = load_scenario(scenario, parse_sets(sets, file=scenario), step)
         path = write_ssp(loaded, writable_file(out, "--out"))
         start, stop, every = default_experiment(path)  # the stop the system reaches (ssp.experiment)
         click.echo(f"{path}: {len(loaded.system.components)} components, "

@@ -22,7 +22,8 @@ class Atmosphere(AotvSlave):
         super().__init__(**kwargs)
         self.parameter("rho_ref", constants.RHO_S_000, "kg/m3", "Density at the reference altitude")
         self.parameter("h_ref", 0.0, "m", "Reference altitude")
-        self.parameter("scale_height", constants.H_SCALE_000, "m", "Density scale height H")
+        self.parameter("scale_height", constants.H_SCALE_000, "m", "Density scale height H",
+                       nominal=constants.H_SCALE_000)
         self.parameter("density_factor", 1.0, "1", "Constant density multiplier (K bias, e.g. 0.8 or 1.2)")
         self.parameter("noise_amplitude", 0.0, "1",
                        "Half-width of the uniform density noise, relative (0.2: +-20 %; 0: none)")

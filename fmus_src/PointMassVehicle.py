@@ -19,7 +19,7 @@ class PointMassVehicle(VehicleSlave):
         super().__init__(**kwargs)
         self.parameter("CD0", constants.CD0_000, "1", "Parasite drag coefficient")
         self.parameter("mass_per_area", constants.M_OVER_S_000, "kg/m2", "Mass over reference area m/S",
-                       min=POSITIVE)
+                       min=POSITIVE, nominal=constants.M_OVER_S_000)
         self.input("u_lift", 0.0, "m/s2", "Lift acceleration L/m")
         self.declare_vehicle(aero_inputs=("u_lift",), drag_inputs=())  # parasite drag
         o = self.output

@@ -224,5 +224,7 @@ def test_crashing_runs_are_recorded_and_the_campaign_goes_on(tmp_path):
     assert [int(r["run"]) for r in rows] == list(range(8))
     for r in rows:
         crashes = float(r["dispersed.f.crash_at"]) < 1.0
-        assert r["status"] == ("crashed" if crashes else "completed"), r
-    assert 0 < summary["statuses"].get("crashed", 0) < 8
+        assert r["status"] == ("failed" if crashes else "completed"), r
+        assert (r["error"] == "crash: the worker process exited with status 3 during this run "
+                              "(worker replaced)") == crashes, r
+    assert 0 < summary["statuses"].get("failed", 0) < 8

@@ -4,8 +4,9 @@
   spawn_key=(k,)) (numpy's `spawn` children), so they do not depend on workers or backend.
 - `worker`: a worker instantiates the scenario's FMUs once and resets them between runs; a run
   becomes one row (dispersed values, final values, extrema, exit values, status, error).
-- `backends`: a local process pool (default) or Dask distributed; a batch whose worker crashes
-  is retried run by run, and a run that still crashes is recorded with its error.
+- `backends`, `pool`: local worker processes (default) or Dask distributed; a run whose local
+  worker crashes, hangs or outgrows its memory limit is a 'failed' row with the cause and the
+  worker is replaced; on Dask a batch whose worker dies is retried run by run.
 - `store`: rows appended to rows.csv as they finish; resume skips finished runs; the final
   rows.csv and rows.parquet are sorted by run, identical to an uninterrupted campaign's.
 - `report`: percentiles (summary.json `statistics`) and the 3-sigma ellipse.

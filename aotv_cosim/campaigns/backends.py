@@ -1,11 +1,12 @@
-"""Where the runs execute: a local process pool or a Dask distributed cluster.
+"""Where the runs execute: local replaceable worker processes or a Dask distributed cluster.
 
-Both take batches [(run, values), ...] and yield lists of rows as batches finish. A batch whose
-task fails (its worker process crashed, or the task raised) is split and its runs retried one by
-one on a fresh pool; a single run that still fails is returned as a row with status 'crashed'.
+Both take batches [(run, values), ...] and yield lists of rows as runs finish. Locally each run is
+one task of a `pool.WorkerPool`: a run whose worker crashes, hangs in native code or outgrows the
+memory limit is returned as a row with status 'failed' and the cause in `error`, its worker is
+replaced, and the other runs go on. On Dask a batch whose task fails is split and its runs retried
+one by one; a single run that still fails is returned as a 'failed' row.
 """
 
-import concurrent.futures as cf
 import math
 import multiprocessing
 import os
@@ -13,23 +14,26 @@ import time
 
 from threadpoolctl import threadpool_limits
 
-from aotv_cosim.engine import interrupts
+from aotv_cosim.engine import watchdog
 from aotv_cosim.engine.errors import SimulationError
-from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.campaigns.orphans import terminate, worker_started
-from aotv_cosim.campaigns.worker import run_batch
+from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS, WorkerLost, WorkerPool
+from aotv_cosim.campaigns.worker import release, run_batch, run_one
 
-POLL = 0.2
-"""Seconds between two looks at the interruption flag while waiting for local batches."""
 NO_WORKER_PATIENCE = 60.0
 """Seconds a Dask campaign waits with tasks pending and no worker in the cluster before it fails
 (workers that died at start, e.g. unable to import aotv_cosim, would leave it waiting forever)."""
 
 
-def crashed_row(columns, run, values, error) -> dict:
+def failed_row(columns, run, values, error) -> dict:
+    """The row of a run that gave none (its worker was lost, or its task raised): status 'failed',
+    the cause in `error` (a WorkerLost's message as it is, else the exception's type and message)."""
     row = dict.fromkeys(columns, math.nan)
     row.update({f"dispersed.{k}": v for k, v in values.items()})
-    row.update(run=run, status="crashed", error=f"{type(error).__name__}: {error}")
+    cause = str(error) if isinstance(error, WorkerLost) else f"{type(error).__name__}: {error}"
+    row.update(run=run, status="failed", error=cause)
+    if "outcome" in row:
+        row.update({"outcome": "failed", "outcome.reason": cause})
     return row
 
 
@@ -43,11 +47,11 @@ def usable_cores() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
-def _pool(workers):
+def _pool(workers, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss=DEFAULT_MAX_RSS):
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_started,
-                                  initargs=(os.getpid(), max(1, usable_cores() // workers)))
+    return WorkerPool(workers, context, initializer=_started, finalizer=release, step_limit=step_limit,
+                      max_rss=max_rss, initargs=(os.getpid(), max(1, usable_cores() // workers)))
 
 
 def _started(parent_pid, blas_threads):
@@ -60,51 +64,29 @@ def _started(parent_pid, blas_threads):
     threadpool_limits(limits=blas_threads, user_api="blas")
 
 
-def _finished(futures):
-    """Yield futures as they finish; raise Interrupted within POLL s of a SIGINT/SIGTERM."""
-    pending = set(futures)
-    while pending:
-        done, pending = cf.wait(pending, timeout=POLL, return_when=cf.FIRST_COMPLETED)
-        if interrupts.received():
-            raise Interrupted(interrupts.name())
-        yield from done
+def local(scenario_path, sets, batches, workers, columns, times=None, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT,
+          max_rss=DEFAULT_MAX_RSS, keep_series=False):
+    """Yield row lists from `workers` replaceable processes (times: (start, stop) overrides or None;
+    step_limit: s per step; max_rss: bytes per worker, None for no limit; see `pool`; keep_series:
+    each row carries its run's decimated signals).
 
-
-def local(scenario_path, sets, batches, workers, columns, times=None, keep_series=False):
-    """Yield row lists from a pool of `workers` processes (times: (start, stop) overrides or None).
-
-    A crash breaks the whole pool and fails every batch in flight, so a failed batch is retried
-    on a new pool as single runs, and a single run that fails again is run alone in a pool of
-    its own: only a run that then fails is the one that crashes. On a SIGINT/SIGTERM (see
-    `interrupts`) it raises Interrupted and kills the workers: the runs in flight are not
-    recorded, and a resumed campaign runs them again.
+    On a SIGINT/SIGTERM (see `interrupts`) it raises Interrupted within `pool.POLL` s and kills
+    the workers: the runs in flight are not recorded, and a resumed campaign runs them again.
     """
-    queue = [(b, False) for b in batches]
-    while queue:
-        shared = [b for b, alone in queue if not alone]
-        isolated = [[b] for b, alone in queue if alone]
-        queue = []
-        for group, size in [(shared, workers)] + [(g, 1) for g in isolated]:
-            if not group:
-                continue
-            pool = _pool(size)
+    pool = _pool(workers, step_limit, max_rss)
+    try:
+        tasks = {pool.submit(run_one, scenario_path, sets, run, values, times, step_limit, keep_series): (run, values)
+                 for batch in batches for run, values in batch}
+        for task in pool.completed(tasks):
             try:
-                futures = {pool.submit(run_batch, scenario_path, sets, b, times, keep_series): b for b in group}
-                for future in _finished(futures):
-                    batch = futures[future]
-                    try:
-                        yield future.result()
-                    except Exception as exc:  # BrokenProcessPool or an error outside a run
-                        if size == 1:
-                            yield [crashed_row(columns, *batch[0], exc)]
-                        else:
-                            split = _retry_plan(batch)
-                            queue += [(b, False) for b in split] if split else [(batch, True)]
-            except BaseException:  # interrupted, or the consumer stopped: running batches are dropped
-                terminate(pool)
-                raise
-            finally:
-                pool.shutdown(wait=True, cancel_futures=True)
+                yield [task.result()]
+            except Exception as exc:  # WorkerLost, or an error outside a run
+                yield [failed_row(columns, *tasks[task], exc)]
+    except BaseException:  # interrupted, or the consumer stopped: running tasks are dropped
+        terminate(pool)
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _completed(client, futures, patience):
@@ -133,7 +115,9 @@ def _completed(client, futures, patience):
 def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO_WORKER_PATIENCE,
          keep_series=False):
     """Yield row lists from the Dask scheduler at `address` (a Client object is accepted too);
-    fail after `patience` s without a worker (`_completed`)."""
+    fail after `patience` s without a worker (`_completed`). Dask runs tasks in worker threads,
+    where the step watchdog cannot interrupt a step (`engine.watchdog`); a crashed worker is
+    restarted by its nanny and its runs retried here."""
     from distributed import Client
 
     client = address if isinstance(address, Client) else Client(address)
@@ -150,7 +134,7 @@ def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO
                 except Exception as exc:  # KilledWorker after Dask's own retries, or a task error
                     split = _retry_plan(batch)
                     if split is None:
-                        yield [crashed_row(columns, *batch[0], exc)]
+                        yield [failed_row(columns, *batch[0], exc)]
                     else:
                         queue += split
                 finally:

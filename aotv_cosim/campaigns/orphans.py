@@ -30,9 +30,6 @@ def worker_started(parent_pid: int) -> None:
 
 
 def terminate(pool) -> None:
-    """Kill the processes of a ProcessPoolExecutor whose running tasks are no longer wanted
-    (`shutdown` alone would wait for them to finish). Uses the executor's `_processes` map,
-    the only handle on its processes that concurrent.futures keeps."""
-    for process in list((getattr(pool, "_processes", None) or {}).values()):
-        if process.is_alive():
-            process.kill()
+    """Kill the worker processes of a `pool.WorkerPool` whose running tasks are no longer wanted
+    (`shutdown` alone would wait for them to finish)."""
+    pool.terminate()

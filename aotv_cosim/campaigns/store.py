@@ -54,6 +54,10 @@ class RowStore:
         elif any(self.out.iterdir()) and not resume and self.csv.exists():
             raise InputError("campaign rows already exist", file=self.csv,
                              fix="pass --resume to continue it, or choose another --out")
+        elif resume and self.csv.exists():  # rows of an unknown campaign: never overwritten
+            raise InputError("cannot resume: rows.csv is here but campaign.json, which says what campaign "
+                             "the rows belong to, is not", file=self.csv, entry="--resume",
+                             fix="remove rows.csv to start the campaign again, or give a new --out")
         manifest_path.write_text(json.dumps(manifest, indent=2) + "\n")
         self._rewrite(self.rows.values(), self.csv)
         self.file = open(self.csv, "a", newline="")

@@ -71,9 +71,13 @@ class _Extrema:
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, scenario_path, sets=None, times=None, keep_series=False):
+    def __init__(self, scenario_path, sets=None, times=None, keep_series=False, step_limit=None):
+        """keep_series: keep each run's recorded signals, decimated (`SERIES_POINTS`); step_limit:
+        the campaign's wall-clock limit per step, s (`engine.watchdog`; None: the scenario's)."""
         start, stop = times or (None, None)
         self.scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
+        if step_limit is not None:
+            self.scenario.step_timeout = step_limit
         self.spacing = (self.scenario.stop - self.scenario.start) / SERIES_POINTS if keep_series else None
         self.signals = numeric_columns(self.scenario)
         self.columns = columns(self.scenario)
@@ -114,18 +118,32 @@ class Runner:
         return row
 
 
-def runner(scenario_path, sets=None, times=None, keep_series=False) -> Runner:
+def runner(scenario_path, sets=None, times=None, keep_series=False, step_limit=None) -> Runner:
     """This thread's Runner for the scenario (made on first use); times: (start, stop) or None."""
-    key = (str(scenario_path), tuple(sorted((sets or {}).items())), times, keep_series)
+    key = (str(scenario_path), tuple(sorted((sets or {}).items())), times, keep_series, step_limit)
     cache = getattr(_LOCAL, "runners", None)
     if cache is None:
         cache = _LOCAL.runners = {}
     if key not in cache:
-        cache[key] = Runner(scenario_path, sets, times, keep_series)
+        cache[key] = Runner(scenario_path, sets, times, keep_series, step_limit)
     return cache[key]
 
 
 def run_batch(scenario_path, sets, batch, times=None, keep_series=False) -> list:
-    """Rows of a batch [(run, values), ...] (the task sent to a worker)."""
+    """Rows of a batch [(run, values), ...] (the task sent to a Dask worker)."""
     r = runner(scenario_path, sets, times, keep_series)
     return [r.run(run, values) for run, values in batch]
+
+
+def run_one(scenario_path, sets, run, values, times=None, step_limit=None, keep_series=False) -> dict:
+    """The row of one run (the task sent to a local worker)."""
+    return runner(scenario_path, sets, times, keep_series, step_limit).run(run, values)
+
+
+def release() -> None:
+    """Close the FMU instances this thread's Runners keep (a local worker does so before it exits,
+    so no FMU library is left to the interpreter's exit-time destructors)."""
+    for kept in getattr(_LOCAL, "runners", {}).values():
+        for instance in kept.pool.values():
+            instance.close()
+        kept.pool.clear()

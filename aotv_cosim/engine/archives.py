@@ -10,6 +10,7 @@ import os
 import shutil
 import tempfile
 import zipfile
+import zlib
 from pathlib import Path
 
 from aotv_cosim.engine.errors import InputError
@@ -22,12 +23,18 @@ MAX_RATIO = 200.0
 """Largest compression ratio of a member over `RATIO_FLOOR_BYTES`: code and data compress about
 3-10x; a ratio of hundreds is padding made to inflate (zeros compress about 1000x)."""
 RATIO_FLOOR_BYTES = 2**20
+DESCRIPTORS = ("modelDescription.xml", "SystemStructure.ssd")
+"""Members read (and so decompressed) before anything else: a damaged one is reported as such."""
+DAMAGED = (zipfile.BadZipFile, zlib.error, OSError, EOFError, NotImplementedError, RuntimeError)
+"""What zipfile raises for a member it cannot read back: a CRC mismatch, a corrupt deflate stream
+(zlib.error), a truncated archive, an unknown compression method, an encrypted member."""
 
 
 def check_sizes(archive: zipfile.ZipFile, path, *, file=None, entry=None) -> None:
     """Refuse an archive with too many members, a repeated member name, a member that inflates
-    more than `MAX_RATIO`, or more than `MAX_TOTAL_BYTES` in all (InputError naming `file` and
-    `entry` when given, else the archive)."""
+    more than `MAX_RATIO`, or more than `MAX_TOTAL_BYTES` in all, or whose descriptor
+    (`DESCRIPTORS`) cannot be read back (InputError naming `file` and `entry` when given, else the
+    archive)."""
     name = Path(path).name
     infos = archive.infolist()
 
@@ -48,6 +55,21 @@ def check_sizes(archive: zipfile.ZipFile, path, *, file=None, entry=None) -> Non
     if total > MAX_TOTAL_BYTES:
         refuse(f"{total} bytes uncompressed, more than {MAX_TOTAL_BYTES}",
                "give a smaller archive (members are checked before extraction)")
+    for member in seen.intersection(DESCRIPTORS):
+        try:
+            archive.read(member)
+        except DAMAGED as exc:
+            refuse(damaged(member, exc), "give an intact archive (rebuild or copy it again)")
+
+
+def damaged(member: str, exc: Exception) -> str:
+    """'member M is corrupt (WHY)' for an error zipfile raised reading it (one of DAMAGED)."""
+    return f"member {member} is corrupt ({_why(exc)})"
+
+
+def _why(exc: Exception) -> str:
+    """The damage an error of DAMAGED describes ('invalid deflate data: ...' for zlib's)."""
+    return f"invalid deflate data: {str(exc).split(': ', 1)[-1]}" if isinstance(exc, zlib.error) else str(exc)
 
 
 def extract_to(path, folder: Path, *, file=None, entry=None) -> Path:
@@ -60,9 +82,9 @@ def extract_to(path, folder: Path, *, file=None, entry=None) -> Path:
     try:
         with zipfile.ZipFile(path) as archive:
             archive.extractall(staging)
-    except (zipfile.BadZipFile, OSError, EOFError, NotImplementedError, RuntimeError) as exc:
+    except DAMAGED as exc:
         shutil.rmtree(staging, ignore_errors=True)
-        raise InputError(f"cannot extract {Path(path).name}: {exc}", file=file or path, entry=entry,
+        raise InputError(f"cannot extract {Path(path).name}: {_why(exc)}", file=file or path, entry=entry,
                          fix="give an intact archive (rebuild or copy it again)") from None
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
@@ -98,12 +120,22 @@ def check_fmu_members(path, model_identifier: str, *, file=None, entry=None) -> 
         key = (str(path), stat.st_size, stat.st_mtime_ns)
         if key in _INTACT:
             return
-        try:
-            bad = archive.testzip()
-        except (zipfile.BadZipFile, OSError, EOFError, NotImplementedError, RuntimeError) as exc:
-            bad = f"({exc})"
+        bad = _first_damaged(archive)
     if bad is not None:
-        raise InputError(f"{path.name}: member {bad} is corrupt" if file else f"member {bad} is corrupt",
+        raise InputError(f"{path.name}: {bad}" if file else bad,
                          file=file or path, entry=entry,
                          fix="give an intact FMU (rebuild or copy it again)")
     _INTACT.add(key)
+
+
+def _first_damaged(archive: zipfile.ZipFile):
+    """'member M is corrupt (...)' for the first member that cannot be read back (its CRC, its
+    deflate stream), else None. Like ZipFile.testzip, but the member of a zlib error is named."""
+    for info in archive.infolist():
+        try:
+            with archive.open(info) as member:
+                while member.read(2**20):
+                    pass
+        except DAMAGED as exc:
+            return damaged(info.filename, exc)
+    return None

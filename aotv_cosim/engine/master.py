@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from aotv_cosim.engine import adaptive, interrupts, ordering
+from aotv_cosim.engine import adaptive, interrupts, ordering, watchdog
 from aotv_cosim.engine.capabilities import fixed_step_components
 from aotv_cosim.engine.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.interrupts import Interrupted
@@ -246,7 +246,8 @@ class Master:
             run_bound(bind(self.start), self.values, s.start)
             outcome.init_time = clock.perf_counter() - wall0
             rows.add(s.start)
-            self._loop(rows, outcome)
+            with watchdog.armed(s.step_timeout):
+                self._loop(rows, outcome)
             outcome.loop_time = clock.perf_counter() - wall0 - outcome.init_time
         except SimulationError as exc:
             outcome.status, outcome.error = "failed", str(exc)
@@ -370,7 +371,8 @@ class Master:
                 if after:
                     run_bound(after, values, t_new)
             run_bound(finish, values, t_new)
-        return jacobi if self.scenario.algorithm == "jacobi" else gauss_seidel
+        return watchdog.limited(jacobi if self.scenario.algorithm == "jacobi" else gauss_seidel,
+                                self.scenario.step_timeout)
 
     def watches(self):
         """(buffer index, threshold, direction, condition) of every stop condition and range watch."""

@@ -7,7 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__
-from aotv_cosim.engine import interrupts, plots
+from aotv_cosim.engine import interrupts, plausibility, plots
 from aotv_cosim.engine.errors import InputError
 from aotv_cosim.engine.master import Master, signals_to_read
 from aotv_cosim.engine.outdir import claimed
@@ -158,6 +158,7 @@ def _simulate(scenario, open_series, progress):
         from aotv_cosim.campaigns.outcome_rows import run_outcome
 
         summary["outcome"] = run_outcome(summary, scenario.outcome)
+    summary["warnings"] += plausibility.run_warnings(scenario, summary)
     return Run(summary, columns, times, rows, decoder)
 
 

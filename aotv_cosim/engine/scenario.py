@@ -118,16 +118,20 @@ class Scenario:
     """Campaign (input, output) column pairs plotted against each other."""
     skipped: list = field(default_factory=list)
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
+    step_timeout: "float | None" = None
+    """Wall-clock limit of one communication step, s (`engine.watchdog`); None: no limit."""
 
 
-def parse_sets(pairs, origin="--set") -> dict:
-    """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be)."""
+def parse_sets(pairs, origin="--set", file=None) -> dict:
+    """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be);
+    file: the scenario the values are for, named in the error."""
     from aotv_cosim.engine.documents import json_value
 
     values = {}
     for text in pairs or ():
         if "=" not in text or "." not in text.split("=", 1)[0]:
-            raise InputError(f"cannot read {text!r}", file=origin, fix="write component.variable=value")
+            raise InputError(f"cannot read {text!r}: no component.variable before an '='", file=file,
+                             entry=origin, fix="write component.variable=value")
         key, raw = text.split("=", 1)
         values[key.strip()] = json_value(raw.strip())
     return values
@@ -187,6 +191,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         outcome=doc.get("montecarlo", {}).get("outcome"),
         report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
+        step_timeout=doc.get("step_timeout"),
     )
     _check_times(scenario)
     check_capabilities(scenario)

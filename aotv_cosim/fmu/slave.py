@@ -138,7 +138,7 @@ XSD_SPECIAL = {"inf": "INF", "-inf": "-INF", "nan": "NaN"}
 
 NOT_STATE = frozenset({
     "vars", "log_queue", "instance_name", "resources", "visible", "guid", "_units", "_output_deps",
-    "_initial_deps", "_getters", "_names", "_ranges", "_input_ranges", "_ranged_vrs"})
+    "_initial_deps", "_getters", "_names", "_ranges", "_input_ranges", "_ranged_vrs", "_nominals"})
 """Instance attributes that are declarations or pythonfmu's own (its C++ side keeps a reference to
 `log_queue`): never part of a saved FMU state. Every other instance attribute is (`SAVED_STATE`)."""
 
@@ -261,6 +261,7 @@ class AotvSlave(Fmi2Slave):
         self._ranges = {}
         self._input_ranges = {}
         self._ranged_vrs = set()
+        self._nominals = {}
         self._inputs_checked = True
         self._outside = ()
         self._undefined = frozenset()
@@ -270,10 +271,13 @@ class AotvSlave(Fmi2Slave):
         self._started = -1  # the revision `start_state` last ran at
 
     # ---- declarations -------------------------------------------------------------------
-    def parameter(self, name, start, unit, description, tunable=False, min=None, max=None):
+    def parameter(self, name, start, unit, description, tunable=False, min=None, max=None, nominal=None):
         """Declare a Real parameter `name` (attribute of the same name) in `unit`, optionally
-        within [min, max] (SI, inclusive)."""
+        within [min, max] (SI, inclusive); `nominal`: its typical magnitude (FMI nominal), from
+        which the master warns about a value given in the wrong unit (`engine.plausibility`)."""
         setattr(self, name, float(start))
+        if nominal is not None:
+            self._nominals[name] = float(nominal)
         variability = Fmi2Variability.tunable if tunable else Fmi2Variability.fixed
         self._register(Real(name, causality=Fmi2Causality.parameter, variability=variability,
                             description=description), unit)
@@ -462,6 +466,8 @@ class AotvSlave(Fmi2Slave):
                 for attribute, bound in zip(("min", "max"), self._ranges[node.get("name")]):
                     if abs(bound) != float("inf"):
                         typed.set(attribute, repr(bound) if real is not None else str(int(bound)))
+            if node.get("name") in self._nominals:
+                real.set("nominal", repr(self._nominals[node.get("name")]))
             if real is not None and real.get("start") in XSD_SPECIAL:
                 real.set("start", XSD_SPECIAL[real.get("start")])
         position = list(root).index(root.find("CoSimulation")) + 1

@@ -47,28 +47,29 @@ class VehicleSlave(AotvSlave):
         so that a guidance law may measure the drag without a loop through its own command.
         """
         p = self.parameter
-        p("h0", self.default_h0, "m", "Initial altitude", min=0.0)
-        p("v0", self.default_v0, "m/s", "Initial speed", min=POSITIVE)
+        p("h0", self.default_h0, "m", "Initial altitude", min=0.0, nominal=self.default_h0)
+        p("v0", self.default_v0, "m/s", "Initial speed", min=POSITIVE, nominal=self.default_v0)
         p("gamma0", self.default_gamma0, "rad", "Initial flight-path angle (positive up)",
           min=-math.pi / 2, max=math.pi / 2)
         p("theta0", 0.0, "rad", "Initial longitude (downrange angle in the planar case)")
         p("phi0", 0.0, "rad", "Initial latitude", min=-math.pi / 2, max=math.pi / 2)
         p("psi0", 0.0, "rad", "Initial heading, from east toward north")
-        p("R_e", self.default_r_e, "m", "Planet radius", min=POSITIVE)
+        p("R_e", self.default_r_e, "m", "Planet radius", min=POSITIVE, nominal=self.default_r_e)
         self.integer_parameter("gravity_model", self.default_gravity,
                                "0: constant g0 (seed 000); 1: inverse square mu/r^2", min=0, max=1)
         self.integer_parameter("heading_model", point_mass.HEADING_FULL,
                                "0: full 3-D heading equation; 1: seed 001 reduced, eq. (3.23) "
                                "(no tan(phi) term)", min=0, max=1)
-        p("g0", constants.G0, "m/s2", "Constant gravity (gravity_model 0) and load-factor unit", min=POSITIVE)
+        p("g0", constants.G0, "m/s2", "Constant gravity (gravity_model 0) and load-factor unit", min=POSITIVE,
+          nominal=constants.G0)
         p("mu", constants.MU_EARTH, "m3/s2", "Gravitational parameter (gravity 1 and orbit outputs)",
-          min=POSITIVE)
+          min=POSITIVE, nominal=constants.MU_EARTH)
         p("max_substep", 0.5, "s", "Longest RK4 substep inside one communication step", min=POSITIVE)
         p("k_q", 1.7415e-4, "kg/(s.m)", "Heating constant (Sutton-Graves 1.7415e-4 with N=0.5, M=3)",
           min=0.0)
         p("q_rho_exp", 0.5, "1", "Density exponent N of the heating law")
         p("q_v_exp", 3.0, "1", "Speed exponent M of the heating law")
-        p("nose_radius", 1.0, "m", "Nose radius R_n of the heating law", min=POSITIVE)
+        p("nose_radius", 1.0, "m", "Nose radius R_n of the heating law", min=POSITIVE, nominal=1.0)
         self.input("rho", self.default_rho, "kg/m3", "Air density at the vehicle", min=0.0)
         self.input("sigma", 0.0, "rad", "Bank angle (positive turns toward north when heading east)")
         aero_deps = ("rho", *aero_inputs)

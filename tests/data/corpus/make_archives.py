@@ -3,7 +3,7 @@
 Each archive is wrong in one way the wiring loader must report: not a zip, no modelDescription,
 broken XML, model exchange only, a member with an absolute path or one climbing out with '..',
 no binary, a binary not named after the modelIdentifier, a member inflating 4 MiB of zeros, a
-member failing its CRC check, a well-formed FMU whose Integer output cannot feed a Real input,
+member failing its CRC check, a binary and a modelDescription whose deflate stream is corrupt, a well-formed FMU whose Integer output cannot feed a Real input,
 and one with Integer ports (which the master does not exchange).
 """
 
@@ -64,6 +64,19 @@ def main():
     at = data.index(BINARY.encode()) + len(BINARY) + 4  # inside the binary's compressed data
     data[at] ^= 0xFF
     (HERE / "corrupt_member.fmu").write_bytes(bytes(data))
+    for name, member in (("bad_deflate_binary.fmu", BINARY), ("bad_deflate_description.fmu", "modelDescription.xml")):
+        write_zip(name, {"modelDescription.xml": description(), BINARY: "not a library\n" * 50})
+        break_deflate(HERE / name, member)
+
+
+def break_deflate(path, member):
+    """Make the first byte of `member`'s compressed data 0xFF: a deflate block of the invalid type
+    3, which zlib refuses ('invalid block type') before any CRC is checked."""
+    with zipfile.ZipFile(path) as archive:
+        info = archive.getinfo(member)
+    data = bytearray(path.read_bytes())
+    data[info.header_offset + 30 + len(info.filename.encode()) + len(info.extra)] = 0xFF
+    path.write_bytes(bytes(data))
 
 
 if __name__ == "__main__":
