@@ -164,7 +164,7 @@ def available() -> bool:
     return _function() is not None
 
 
-Parameters = ctypes.c_double * 20
+_PARAMETERS = ctypes.c_double * 20
 
 
 def flight(parameters):
@@ -174,5 +174,5 @@ def flight(parameters):
     if function is None:
         return None
     out = (ctypes.c_double * 4)()
-    exited = function(Parameters(*parameters), out)
+    exited = function(_PARAMETERS(*parameters), out)
     return bool(exited), out[0], out[1], out[2], out[3]
