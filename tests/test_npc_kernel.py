@@ -91,3 +91,16 @@ def test_the_compiled_flight_equals_rk4_on_the_vehicle_equations(t_k, h, v, gamm
     s = npc.NpcSettings(step=step, t_switch=t_switch, u_final=u_final)
     args = (t_k, (h, v, gamma), u_c, scale, model, s)
     assert _bits(npc.fly(*args)) == _bits(_reference_flight(*args))
+
+
+def test_the_kernels_live_in_the_fmu_cache_folder(monkeypatch, tmp_path):
+    """npc_kernel spells out fmu.build.cache_dir's rule (a bundled runtime has no fmu.build)."""
+    from aotv_cosim.fmu.build import cache_dir
+
+    monkeypatch.setenv("AOTV_COSIM_CACHE", str(tmp_path / "cache"))
+    assert npc_kernel.kernel_dir() == cache_dir() / "kernels"
+    monkeypatch.delenv("AOTV_COSIM_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert npc_kernel.kernel_dir() == cache_dir() / "kernels"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    assert npc_kernel.kernel_dir() == cache_dir() / "kernels"

@@ -9,8 +9,9 @@ nor to replace the library calls by builtins (`FLAGS`), so both give the same nu
 (`tests/test_npc_kernel.py` compares them). No fast-math option is used.
 
 The shared library is looked for beside this module (an FMU that bundles it, see `LIBRARY`),
-then in the FMU cache folder (`fmu.build.cache_dir`), where it is compiled on first use when a C
-compiler is found. Without one, `flight` returns None and `npc.fly` runs its Python loop.
+then in the `kernels` folder of the FMU cache (`kernel_dir`), where it is compiled on first use
+when a C compiler is found; this works from any copy of the package, also the runtime an FMU
+bundles. Without a compiler, `flight` returns None and `npc.fly` runs its Python loop.
 """
 
 import ctypes
@@ -127,14 +128,20 @@ def compile_library(directory) -> Path:
     return directory / LIBRARY
 
 
+def kernel_dir() -> Path:
+    """Folder of compiled kernels: `kernels` in the FMU cache folder, chosen by the rule of
+    `fmu.build.cache_dir` ($AOTV_COSIM_CACHE, else $XDG_CACHE_HOME/aotv-cosim, else
+    ~/.cache/aotv-cosim), written out here because an FMU's bundled runtime has no fmu.build."""
+    root = os.environ.get("AOTV_COSIM_CACHE")
+    if not root:
+        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "aotv-cosim"
+    return Path(root) / "kernels"
+
+
 def _cached_library():
-    """The kernel in the FMU cache folder, compiled there if missing; None without a compiler or
-    outside this package's installation (the bundled runtime of an FMU has no fmu.build)."""
-    try:
-        from aotv_cosim.fmu.build import cache_dir
-    except ImportError:
-        return None
-    path = cache_dir() / "kernels" / LIBRARY
+    """The kernel in `kernel_dir`, compiled there if missing; None without a compiler or when
+    the compilation fails."""
+    path = kernel_dir() / LIBRARY
     if path.is_file():
         return path
     if compiler() is None:
