@@ -122,8 +122,8 @@ def compile_library(directory) -> Path:
     with tempfile.TemporaryDirectory(dir=directory) as tmp:
         source, library = Path(tmp) / "npc_kernel.c", Path(tmp) / LIBRARY
         source.write_text(SOURCE)
-        subprocess.run([compiler() or "cc", *FLAGS, "-o", str(library), str(source), "-lm"], check=True,
-                       capture_output=True)
+        subprocess.run([compiler() or "cc", *FLAGS, "-o", LIBRARY, source.name, "-lm"], check=True,
+                       capture_output=True, cwd=tmp)  # relative names: no temporary path in the binary
         os.replace(library, directory / LIBRARY)
     return directory / LIBRARY
 
