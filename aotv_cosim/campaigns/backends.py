@@ -54,13 +54,21 @@ def _pool(workers, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss=DEFAULT_MA
                       max_rss=max_rss, initargs=(os.getpid(), max(1, usable_cores() // workers)))
 
 
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS")
+"""Environment variables from which BLAS and OpenMP libraries take their thread count when they load."""
+
+
 def _started(parent_pid, blas_threads):
     """Initializer of a local pool worker: it dies with its parent (`orphans.worker_started`) and
     uses at most `blas_threads` BLAS threads, its share of the cores. OpenBLAS threads spin while
     they wait, so workers that each run one thread per core fight for the cores: on 2 cores two
     workers ran 100 LQR-law runs in 6.3 s against 4.1 s for one (bench/bench_campaign_laws.py),
-    and in 2.9 s with one BLAS thread each. Dask's nanny sets the same limit for its workers."""
+    and in 2.9 s with one BLAS thread each. The libraries already loaded are limited now
+    (threadpoolctl); those loaded later, as scipy's own OpenBLAS when the first FMU imports
+    scipy, read the limit from the environment set here. Dask's nanny sets the same limit for
+    its workers."""
     worker_started(parent_pid)
+    os.environ.update(dict.fromkeys(BLAS_THREAD_VARIABLES, str(blas_threads)))
     threadpool_limits(limits=blas_threads, user_api="blas")
 
 

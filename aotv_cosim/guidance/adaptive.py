@@ -10,9 +10,12 @@ reading under which Theta0 matches the robust gains (extraction Sec. 8 item 17).
 as printed, including (8.9) without the factor 1/2 its Lyapunov function (8.7) would call for.
 """
 
+import math
+
 import numpy as np
 
-from aotv_cosim.physics.planar import K_BALL_000, AotvConstants, input_b, jacobian_a, km_error, km_state
+from aotv_cosim.physics.constants import R_EARTH_000
+from aotv_cosim.physics.planar import K_BALL_000, AotvConstants
 
 PHI = 1.0
 """Adaptation constant Phi (Sec. 8.2.2)."""
@@ -24,6 +27,7 @@ THETA0 = np.array([8.696e-3, 54.745, 526.316])
 """Initial adaptive gain Theta0 = (theta_h, theta_v, theta_gamma) (Sec. 8.2.2), km-s units."""
 P_MATRIX = np.diag([0.1, 0.05, 10.0])
 """Lyapunov weight P (Sec. 8.2.2), for e in (km, km/s, rad)."""
+P_ROWS = P_MATRIX.tolist()
 
 
 def adaptive_delta_u(theta, e, a_mat, b_vec, eta: float = ETA, psi: float = PSI) -> float:
@@ -45,9 +49,31 @@ def adaptive_step(theta, state_si, desired_si, u_desired: float, k_ball: float =
     theta: current Theta (3,); state_si, desired_si: actual and desired (h m, v m/s, gamma rad) at
     the current time; u_desired: desired lift acceleration there, m/s^2; k_ball: the model's K in
     1/m, used in A of (5.2). The caller integrates dTheta/dt (e.g. Euler over the step).
+
+    `adaptive_delta_u` and `theta_rate` with A, B and e of `planar.jacobian_a`, `input_b` and
+    `km_error`, evaluated in floats with the same operations in the same order (twice per step,
+    where numpy's cost per call on 3-element arrays was most of the law's): the same numbers to
+    the bit (`tests/test_campaign_laws_floats.py`). A e stays a numpy product: its BLAS kernel
+    may fuse multiply-adds, which Python floats cannot reproduce. Sums start from 0.0 as BLAS's
+    do (the sign of a zero result).
     """
-    x_d = km_state(desired_si)
-    a_mat = jacobian_a(x_d, u_desired * 1e-3, AotvConstants.km(k_ball))
-    b_vec = input_b(x_d)
-    e = km_error(state_si, desired_si)
-    return adaptive_delta_u(theta, e, a_mat, b_vec) * 1e3, theta_rate(theta, e, b_vec)
+    c = AotvConstants.km(k_ball)
+    h_d, v_d, gamma = desired_si
+    r, v, u = R_EARTH_000 * 1e-3 + h_d * 1e-3, v_d * 1e-3, u_desired * 1e-3  # km_state
+    density = math.exp(-(r - c.r_earth) / c.scale_height)
+    cg, sg = math.cos(gamma), math.sin(gamma)
+    a_mat = np.array([[0.0, sg, v * cg],
+                      [c.k_ball * density * v * v / c.scale_height, -2.0 * c.k_ball * density * v, -c.g * cg],
+                      [-v / (r * r), (1.0 / r + c.g / (v * v)) * cg - u / (v * v), -(v / r - c.g / v) * sg]])
+    b_3 = 1.0 / v  # B = (0, 0, 1/v)
+    h, v_actual, gamma_actual = state_si
+    e = ((h - h_d) * 1e-3, (v_actual - v_d) * 1e-3, (gamma_actual - gamma) * 1.0)
+    t_0, t_1, t_2 = map(float, theta)
+    denominator = 1.0 + PSI * (0.0 + t_0 * 0.0 + t_1 * 0.0 + t_2 * b_3)
+    a_e = (a_mat @ np.array(e)).tolist()
+    w = [ETA * e_k + PSI * a_k for e_k, a_k in zip(e, a_e)]
+    delta_u = (0.0 + -t_0 * w[0] + -t_1 * w[1] + -t_2 * w[2]) / denominator
+    b_p = [0.0 + 0.0 * p_0 + 0.0 * p_1 + b_3 * p_2 for p_0, p_1, p_2 in zip(*P_ROWS)]
+    b_p_e = 0.0 + b_p[0] * e[0] + b_p[1] * e[1] + b_p[2] * e[2]
+    gain = ETA * PHI / denominator
+    return delta_u * 1e3, np.array([gain * e_k * b_p_e for e_k in e])

@@ -8,9 +8,8 @@ du in m/s^2. The tracking law is u = u_d(t) + du with dx = x - x_d(t) (extractio
 """
 
 import numpy as np
-from scipy.linalg import expm, solve_continuous_are
 
-from aotv_cosim.physics.planar import K_BALL_000, AotvConstants, input_b, jacobian_a, km_error, km_state
+from aotv_cosim.physics.planar import K_BALL_000, AotvConstants, input_b, jacobian_a, km_state
 
 R_INFINITE = 3.33e7
 """Control weight R of eq. (5.6), 1/(km/s^2)^2 (Table 5.1 prints the row as 3.3e7)."""
@@ -37,6 +36,8 @@ def frozen_linearization(state_si, u_si: float, k_ball: float = K_BALL_000):
 def infinite_horizon_gain(a_mat, b_vec, q=Q_INFINITE, r: float = R_INFINITE) -> np.ndarray:
     """Gain k of du = -k^T dx, eqs. (5.7)-(5.8), k^T = R^-1 B^T M0 with M0 solving the algebraic
     Riccati equation (5.9) A^T M0 + M0 A - M0 B R^-1 B^T M0 + Q = 0. km-s units, shape (3,)."""
+    from scipy.linalg import solve_continuous_are  # here: not every law needs scipy
+
     b_col = np.reshape(b_vec, (3, 1))
     m0 = solve_continuous_are(a_mat, b_col, q, np.array([[r]]))
     return (b_col.T @ m0 / r).ravel()
@@ -49,6 +50,8 @@ def terminal_riccati(a_mat, b_vec, t, tf: float, q=Q_TERMINAL, r: float = R_TERM
     Eqs. (5.16)-(5.18): {F; E}(t) = expm(Hm (t - tf)) {I; V}, M0 = E F^-1, with the Hamiltonian
     matrix Hm = [[A, -B R^-1 B^T], [-Q, -A^T]]. t: times in s (array), tf in s; km-s units.
     """
+    from scipy.linalg import expm
+
     b_col = np.reshape(b_vec, (3, 1))
     hamiltonian = np.block([[a_mat, -b_col @ b_col.T / r], [-q, -a_mat.T]])
     tau = np.atleast_1d(np.asarray(t, dtype=float)) - tf
@@ -68,5 +71,11 @@ def terminal_gain_schedule(a_mat, b_vec, t, tf: float, q=Q_TERMINAL, r: float = 
 
 def feedback(gain, state_si, reference_si) -> float:
     """du = -k^T dx of (5.7)/(5.12) in m/s^2, for km-s gain k (shape (3,)) and SI states
-    (h m, v m/s, gamma rad) actual and desired; dx is formed in km-s."""
-    return float(-np.dot(gain, km_error(state_si, reference_si)) * 1e3)
+    (h m, v m/s, gamma rad) actual and desired; dx is formed in km-s (`planar.km_error`).
+
+    Evaluated in floats with the operations of -np.dot(k, km_error(x, x_d)) * 1e3 in numpy's
+    order (the sum from 0.0), the same numbers to the bit at a fraction of the cost per step
+    (`tests/test_campaign_laws_floats.py`)."""
+    (h, v, gamma), (h_d, v_d, gamma_d) = state_si, reference_si
+    k_h, k_v, k_gamma = map(float, gain)
+    return -(0.0 + k_h * ((h - h_d) * 1e-3) + k_v * ((v - v_d) * 1e-3) + k_gamma * ((gamma - gamma_d) * 1.0)) * 1e3

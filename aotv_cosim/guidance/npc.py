@@ -46,6 +46,7 @@ Units: SI throughout (m, m/s, rad, s, m/s^2, kg/m^3).
 import math
 from dataclasses import dataclass
 
+from aotv_cosim.guidance import npc_kernel
 from aotv_cosim.physics import orbit, point_mass
 from aotv_cosim.physics.atmosphere import exponential_density
 from aotv_cosim.physics.constants import (
@@ -165,22 +166,66 @@ def profile_mean(t0: float, t1: float, t_k: float, u_c: float, s: NpcSettings) -
     return integral(t0, t1) / (t1 - t0)
 
 
-def _derivatives(t, x, t_k, u_c, scale, model, s):
-    """dx/dt of the vehicle FMU's equations (point_mass.derivatives) with the density and the lift
-    evaluated at this stage's altitude and time."""
-    rho = model.density(x[0] - model.r_earth, scale)
-    return point_mass.derivatives(x, rho, lift_profile(t, t_k, u_c, s), 0.0, model.cd_s_m, 0.0,
-                                  model.gravity_model, model.g0, model.mu)
+def fly(t_k: float, state, u_c: float, scale: float, model: PredictorModel, s: NpcSettings):
+    """(exited, time s, h m, v m/s, gamma rad) of the predictor's flight from the state (h m,
+    v m/s, gamma rad) at elapsed time t_k (s): classical RK4 steps of `s.step` of the vehicle
+    FMU's equations (`point_mass.derivatives` in the plane, bank 0; the downrange angle, which
+    nothing here depends on, is left out) with the density `model.density(h, scale)` and the lift
+    `lift_profile` taken at every stage, until the altitude climbs through h_exit (the crossing
+    interpolated linearly inside the step: exited), falls below h_floor, or the horizon ends.
 
+    The same operations in the same order as those functions, written out in floats (the
+    predictor is 90 % of an NPC run), so the same numbers to the bit (`tests/test_npc_kernel.py`
+    compares with RK4 on `point_mass.derivatives`). Where a C compiler is found, `npc_kernel` runs
+    this loop compiled, about 20 times faster (a prediction 45 us against 0.9 ms in floats and
+    3 ms for the six-state RK4 of `point_mass.derivatives` it replaces, measured on one machine).
+    """
+    compiled = npc_kernel.flight((t_k, *state, u_c, scale, model.rho_ref, model.h_ref, model.scale_height,
+                                  model.cd_s_m, model.r_earth, model.gravity_model, model.g0, model.mu,
+                                  s.h_exit, s.step, s.horizon, s.h_floor, s.t_switch, s.u_final))
+    if compiled is not None:
+        return compiled
+    exp, cos, sin = math.exp, math.cos, math.sin
+    r_earth, rho_ref, h_ref, big_h, cd_s_m = model.r_earth, model.rho_ref, model.h_ref, model.scale_height, model.cd_s_m
+    constant_g, g0, mu = model.gravity_model == point_mass.GRAVITY_CONSTANT, model.g0, model.mu
+    t_switch, u_final, step = s.t_switch, s.u_final, s.step
 
-def _rk4(t, x, dt, t_k, u_c, scale, model, s):
-    """One classical RK4 step of `_derivatives` from (t, x) over dt."""
-    args = (t_k, u_c, scale, model, s)
-    k1 = _derivatives(t, x, *args)
-    k2 = _derivatives(t + 0.5 * dt, [xi + 0.5 * dt * ki for xi, ki in zip(x, k1)], *args)
-    k3 = _derivatives(t + 0.5 * dt, [xi + 0.5 * dt * ki for xi, ki in zip(x, k2)], *args)
-    k4 = _derivatives(t + dt, [xi + dt * ki for xi, ki in zip(x, k3)], *args)
-    return [xi + dt / 6.0 * (a + 2.0 * b + 2.0 * c + d) for xi, a, b, c, d in zip(x, k1, k2, k3, k4)]
+    def lift(t):  # lift_profile
+        if t_k >= t_switch:
+            return u_c
+        if t >= t_switch:
+            return u_final
+        return u_c + (u_final - u_c) * (t - t_k) / (t_switch - t_k)
+
+    def rates(r, v, gamma, u):  # point_mass._rates' planar branch, lift_acc u, cl_s_m 0
+        q_over_m = 0.5 * (scale * (rho_ref * exp(-((r - r_earth) - h_ref) / big_h))) * v * v
+        g = g0 if constant_g else mu / (r * r)
+        cg, sg = cos(gamma), sin(gamma)
+        return v * sg, -(q_over_m * cd_s_m) - g * sg, (u + q_over_m * 0.0 - (g - v * (v / r)) * cg) / v
+
+    h0, v, gamma = state
+    r = r_earth + h0
+    t, t_end = t_k, t_k + s.horizon
+    h_exit_r, floor_r = r_earth + s.h_exit, r_earth + s.h_floor
+    while t < t_end:
+        dt = min(step, t_end - t)
+        half = 0.5 * dt
+        u_half = lift(t + half)
+        a0, a1, a2 = rates(r, v, gamma, lift(t))
+        b0, b1, b2 = rates(r + half * a0, v + half * a1, gamma + half * a2, u_half)
+        c0, c1, c2 = rates(r + half * b0, v + half * b1, gamma + half * b2, u_half)
+        d0, d1, d2 = rates(r + dt * c0, v + dt * c1, gamma + dt * c2, lift(t + dt))
+        sixth = dt / 6.0
+        r_new = r + sixth * (a0 + 2.0 * b0 + 2.0 * c0 + d0)
+        v_new = v + sixth * (a1 + 2.0 * b1 + 2.0 * c1 + d1)
+        gamma_new = gamma + sixth * (a2 + 2.0 * b2 + 2.0 * c2 + d2)
+        if r_new >= h_exit_r > r and gamma_new > 0.0:
+            f = (h_exit_r - r) / (r_new - r)
+            return True, t + f * dt, s.h_exit, v + f * (v_new - v), gamma + f * (gamma_new - gamma)
+        t, r, v, gamma = t + dt, r_new, v_new, gamma_new
+        if r < floor_r:
+            break
+    return False, t, r - r_earth, v, gamma
 
 
 def _prediction(exited, t, h, v, gamma, model, s):
@@ -198,21 +243,7 @@ def predict(t_k: float, state, u_c: float, scale: float, model: PredictorModel,
     h0, v0, gamma0 = state
     if h0 >= s.h_exit and gamma0 > 0.0:  # already out, climbing: the exit is now
         return _prediction(True, t_k, h0, v0, gamma0, model, s)
-    x = [model.r_earth + h0, 0.0, 0.0, v0, gamma0, 0.0]
-    t, t_end = t_k, t_k + s.horizon
-    h_exit_r, floor_r = model.r_earth + s.h_exit, model.r_earth + s.h_floor
-    while t < t_end:
-        dt = min(s.step, t_end - t)
-        x_new = _rk4(t, x, dt, t_k, u_c, scale, model, s)
-        if x_new[0] >= h_exit_r > x[0] and x_new[4] > 0.0:
-            f = (h_exit_r - x[0]) / (x_new[0] - x[0])
-            v = x[3] + f * (x_new[3] - x[3])
-            gamma = x[4] + f * (x_new[4] - x[4])
-            return _prediction(True, t + f * dt, s.h_exit, v, gamma, model, s)
-        t, x = t + dt, x_new
-        if x[0] < floor_r:
-            break
-    return _prediction(False, t, x[0] - model.r_earth, x[3], x[4], model, s)
+    return _prediction(*fly(t_k, state, u_c, scale, model, s), model, s)
 
 
 def _clip(u, s):

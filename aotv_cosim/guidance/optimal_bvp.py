@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from typing import Optional, Tuple
 
 import numpy as np
-from scipy.integrate import solve_bvp, solve_ivp
 
 from aotv_cosim.physics.planar import (
     ENTRY_000, EXIT_000, K_BALL_000, TF_000, AotvConstants, augmented_dynamics, dynamics, km_state,
@@ -133,6 +132,8 @@ def _initial_guess(tau, tf: float, x0_km, a: float, b: float, lam_r: float, c: A
     """Guess of Sec. 4.1 on the normalised mesh tau: states of (2.7) flown with u = a + b t
     (a, b in km/s^2, km/s^3), lambda_gamma = -2 R v u (from 3.20), lambda_r constant (km/s^3),
     lambda_v = 0. Returns the scaled (6, n) array."""
+    from scipy.integrate import solve_ivp  # here: importing scipy costs a worker 0.7 s
+
     t = tau * tf
     fly = solve_ivp(lambda s, x: dynamics(x, a + b * s, c), (0.0, tf), x0_km, method="DOP853",
                     t_eval=t, rtol=1e-10, atol=1e-12)
@@ -175,6 +176,8 @@ def solve_min_effort(entry=ENTRY_000, exit_target=EXIT_000, tf: float = TF_000,
         return np.array(res) / _SCALE[[0, 1, 2, 0, 4 if free_exit_velocity else 1, 2]]
 
     z0 = _initial_guess(tau, tf, x0, a * 1e-3, b * 1e-3, lam_r, c)
+    from scipy.integrate import solve_bvp
+
     sol = solve_bvp(rhs, boundary, tau, z0, tol=tol, max_nodes=20000)
     elapsed = time.perf_counter() - start
     y = sol.y * scale

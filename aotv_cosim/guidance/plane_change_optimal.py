@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from aotv_cosim.guidance.newton import damped_newton
 from aotv_cosim.physics import constants, mrrv
@@ -188,6 +187,8 @@ _escaped.terminal = True
 
 def shoot(x0, p: PlaneChangeProblem, dense: bool = False):
     """Integrate states, costates and time over [0, Delta psi] from the initial controls x0 (DOP853)."""
+    from scipy.integrate import solve_ivp  # here: not every law needs scipy
+
     y0 = [p.z_i, p.v_i, p.gamma_i, *initial_costates(x0[0], x0[1], p), 0.0]
     return solve_ivp(_rhs, (0.0, p.dpsi), y0, method="DOP853", rtol=1e-11, atol=1e-10,
                      args=(p,), events=_escaped, dense_output=dense)

@@ -20,7 +20,6 @@ Coefficients are given as callables of local xi returning (omega0, omega1, omega
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 R_PRINTED = {"400kft": 6.55e15, "150kft": 6.55e6}
 """Printed control weights R (Sec. 4.2), with Q = I."""
@@ -37,6 +36,8 @@ def riccati_backward(coeffs, xi_f: float, r: float, rtol: float = 1e-10):
     coeffs(xi) -> (omega0, omega1, ...); r: control weight R; Q = I. Returns a callable
     K(xi) -> array (2, 2).
     """
+    from scipy.integrate import solve_ivp  # here: not every law needs scipy
+
     bbt = np.array([[0.0, 0.0], [0.0, 1.0 / r]])
 
     def rhs(xi, k):
@@ -72,6 +73,8 @@ class NumericalLqr:
         def rhs(xi, p):
             a = a_matrix(*coeffs(xi)[:2])
             return -(kfun(xi) + a.T) @ p
+
+        from scipy.integrate import solve_ivp
 
         sol = solve_ivp(rhs, (0.0, xi_f), p0, method="LSODA", rtol=1e-10,
                         atol=1e-14 * np.abs(p0).max(), t_eval=grid)
