@@ -50,6 +50,6 @@ def test_a_worker_limits_the_blas_that_scipy_loads_after_it_started(tmp_path):
     done = subprocess.run([sys.executable, str(probe)], env=env, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     libraries = __import__("json").loads(done.stdout.splitlines()[-1])
-    share = max(1, backends.usable_cores() // 2)
+    share = backends.WORKER_BLAS_THREADS
     assert any("scipy" in path for path, _ in libraries), libraries  # scipy's own OpenBLAS is there
     assert all(threads <= share for _, threads in libraries), libraries

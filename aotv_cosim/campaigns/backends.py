@@ -47,11 +47,17 @@ def usable_cores() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
+WORKER_BLAS_THREADS = 1
+"""BLAS threads of a local worker, however many workers: the laws' matrices are a few rows, and
+a 40-run LQR-law campaign on one worker cost 2.2-2.5 s of CPU with one thread against 3.4-4.5 s
+with one per core (2 here; OpenBLAS threads spin while they wait)."""
+
+
 def _pool(workers, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss=DEFAULT_MAX_RSS):
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
     return WorkerPool(workers, context, initializer=_started, finalizer=release, step_limit=step_limit,
-                      max_rss=max_rss, initargs=(os.getpid(), max(1, usable_cores() // workers)))
+                      max_rss=max_rss, initargs=(os.getpid(), WORKER_BLAS_THREADS))
 
 
 BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS")
@@ -60,7 +66,7 @@ BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THR
 
 def _started(parent_pid, blas_threads):
     """Initializer of a local pool worker: it dies with its parent (`orphans.worker_started`) and
-    uses at most `blas_threads` BLAS threads, its share of the cores. OpenBLAS threads spin while
+    uses at most `blas_threads` BLAS threads (`WORKER_BLAS_THREADS`). OpenBLAS threads spin while
     they wait, so workers that each run one thread per core fight for the cores: on 2 cores two
     workers ran 100 LQR-law runs in 6.3 s against 4.1 s for one (bench/bench_campaign_laws.py),
     and in 2.9 s with one BLAS thread each. The libraries already loaded are limited now
