@@ -5,7 +5,7 @@ Everything returns pandas DataFrames with the unit of every column (`.units`, an
 DataFrame's `attrs["units"]`), taken from the FMUs' modelDescriptions. Nothing here installs a
 signal handler or exits the interpreter: a run stopped by Ctrl-C (KeyboardInterrupt) returns a
 Result with status 'interrupted', and any number of calls can be made in one interpreter (a
-notebook). Bad input raises `aotv_cosim.engine.errors.InputError` with the same one-line message the
+notebook). Bad input raises `aotv_cosim.errors.InputError` with the same one-line message the
 command line prints. Calls from several threads are made one at a time (`_ONE_AT_A_TIME`).
 """
 
@@ -14,8 +14,8 @@ import tempfile
 import threading
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
-from aotv_cosim.fmu.describe import describe
+from aotv_cosim.errors import InputError
+from aotv_cosim.variables import describe
 from aotv_cosim.engine.result import Campaign, Result
 
 __all__ = ["run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "Result", "Campaign", "Benchmark"]

@@ -17,8 +17,8 @@ import click
 from aotv_cosim import cli_console as console
 from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
 from aotv_cosim.engine import interrupts
-from aotv_cosim.engine.errors import AotvError, InputError, SimulationError, ValidationFailed
-from aotv_cosim.engine.paths import writable_file, writable_folder
+from aotv_cosim.errors import AotvError, InputError, SimulationError, ValidationFailed
+from aotv_cosim.paths import writable_file, writable_folder
 
 DEFAULT_OUT = Path("results")
 ENDED_CLEANLY = ("completed", "terminated")
@@ -257,7 +257,7 @@ def _kind(path):
     A file that cannot be read or parsed, or is no regular file (a FIFO would block), counts as
     a scenario: its loader reports the problem."""
     from aotv_cosim.engine.documents import strict_json
-    from aotv_cosim.engine.paths import MAX_DOCUMENT_BYTES, regular_file
+    from aotv_cosim.paths import MAX_DOCUMENT_BYTES, regular_file
 
     try:
         regular_file(path, max_bytes=MAX_DOCUMENT_BYTES)
@@ -278,7 +278,7 @@ def describe(target):
     """Print the variables of an FMU (a name of this package or a .fmu file), or of every FMU of a
     WIRING, scenario or .ssp file: causality, variability, type, unit, start, declared min and
     max, description (for a wiring also the value it sets or the source of a connected input)."""
-    from aotv_cosim.fmu.describe import describe as table, format_table
+    from aotv_cosim.variables import describe as table, format_table
 
     _guard(lambda: click.echo(format_table(_with_builds(lambda: table(target)))))
 
@@ -409,7 +409,7 @@ def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
 def sweep(scenario, grids, workers, sets, out):
     """Fly SCENARIO at every point of the grids: sweep.csv/.parquet (one row per point: the parameters,
     outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
-    from aotv_cosim.campaigns.figures import display
+    from aotv_cosim.campaigns.units import display
     from aotv_cosim.campaigns.sweep import run_sweep
     from aotv_cosim.engine.scenario import parse_sets
 

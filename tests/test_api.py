@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 import aotv_cosim
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
 
 from conftest import NOMINAL, ROOT, SCENARIOS, WIRING

@@ -11,8 +11,8 @@ import pytest
 from aotv_cosim.engine import archives
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.engine.documents import strict_json
-from aotv_cosim.engine.errors import InputError
-from aotv_cosim.ssp.load import extract, read_ssp
+from aotv_cosim.errors import InputError
+from aotv_cosim.engine.ssp_load import extract, read_ssp
 from aotv_cosim.engine.fmu_file import check_archive
 from test_input_edges import SSD, export_nominal, one_line, rewritten
 

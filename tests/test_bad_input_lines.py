@@ -9,7 +9,7 @@ from click.testing import CliRunner
 
 from aotv_cosim.cli import main
 from aotv_cosim.engine.archives import extract_to
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from conftest import NOMINAL, SCENARIOS
 from test_corpus import CORPUS, crafted_archives  # noqa: F401 (writes the crafted archives)
 

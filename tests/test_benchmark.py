@@ -17,7 +17,7 @@ from click.testing import CliRunner
 from aotv_cosim.campaigns import benchmark
 from aotv_cosim.campaigns.benchmark import run_benchmark
 from aotv_cosim.cli import main
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from conftest import SCENARIOS, write_json
 
 BENCH = SCENARIOS / "benchmark_seed000"

@@ -7,9 +7,9 @@ import pyarrow.parquet as pq
 import pytest
 
 from aotv_cosim.campaigns import run_campaign
-from aotv_cosim.campaigns.outcome_rows import UNITS, counts
+from aotv_cosim.mission.outcome_rows import UNITS, counts
 from aotv_cosim.campaigns.worker import Runner
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
 from conftest import SCENARIOS, write_json
 

@@ -10,7 +10,7 @@ from click.testing import CliRunner
 from aotv_cosim.campaigns import run_campaign
 from aotv_cosim.campaigns.report_tables import console_table, three_sigma
 from aotv_cosim.cli import main
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from conftest import SCENARIOS, write_json
 
 CAMPAIGN = SCENARIOS / "montecarlo_time_linear_density.json"

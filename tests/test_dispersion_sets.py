@@ -6,7 +6,7 @@ import pytest
 
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.engine.documents import schema
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
 from conftest import SCENARIOS, write_json
 

@@ -16,7 +16,7 @@ from click.testing import CliRunner
 
 import typed_fmus
 from aotv_cosim.cli import main
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.runner import run_scenario, simulate
 from aotv_cosim.engine.scenario import load_scenario
 from conftest import write_json

@@ -211,7 +211,7 @@ def test_libcosim_steps_lean_and_stock_fmus_to_the_same_values(tmp_path, monkeyp
 
 
 def test_unknown_wrapper_is_refused(monkeypatch):
-    from aotv_cosim.engine.errors import InputError
+    from aotv_cosim.errors import InputError
 
     monkeypatch.setenv(native.WRAPPER_VARIABLE, "fast")
     with pytest.raises(InputError, match="unknown FMI wrapper 'fast'"):

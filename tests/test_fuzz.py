@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from aotv_cosim.engine.documents import load_document
-from aotv_cosim.engine.errors import AotvError
+from aotv_cosim.errors import AotvError
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.engine.system import load_system
 from conftest import NOMINAL, WIRING

@@ -283,8 +283,8 @@ def test_permission_and_read_only_errors_are_named(tmp_path, monkeypatch):
     EACCES from stat and EROFS or EACCES from creating a file become one InputError each."""
     import errno
 
-    from aotv_cosim.engine import paths
-    from aotv_cosim.engine.errors import InputError
+    from aotv_cosim import paths
+    from aotv_cosim.errors import InputError
 
     def refuse(code):
         def fail(*args, **kwargs):

@@ -7,7 +7,7 @@ import math
 import pytest
 
 from aotv_cosim.engine import ordering
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.studies.reference import reference_run
 from aotv_cosim.engine.runner import run_scenario
 from aotv_cosim.engine.scenario import load_scenario

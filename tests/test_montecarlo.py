@@ -10,7 +10,7 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.campaigns import run_campaign
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.report import ellipse_3sigma
@@ -67,7 +67,7 @@ def test_dask_cluster_without_workers_fails_instead_of_waiting():
     from distributed import Client, LocalCluster
 
     from aotv_cosim.campaigns import backends
-    from aotv_cosim.engine.errors import SimulationError
+    from aotv_cosim.errors import SimulationError
 
     with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
         rows = backends.dask(str(CAMPAIGN), None, [[(0, {})]], client, ["run"], patience=1.0)

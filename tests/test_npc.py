@@ -222,7 +222,7 @@ def test_npc_meets_the_apogee_where_the_entry_latched_laws_miss(case, bound, tmp
 def test_campaign_runs_on_reset_fmus_repeat_and_classify():
     """A Monte Carlo worker resets the FMUs between runs: run 2 (x1.2 after an x0.8 run) repeats
     run 0 exactly (cycle CPU aside), and the rows classify as captures."""
-    from aotv_cosim.campaigns.outcome import CaptureCriteria, classify, record_from_row
+    from aotv_cosim.mission.outcome import CaptureCriteria, classify, record_from_row
     from aotv_cosim.campaigns.worker import Runner
 
     runner = Runner(SCENARIOS / "aotv_npc_nominal.json")

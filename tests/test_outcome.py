@@ -1,4 +1,4 @@
-"""Outcome of one run (aotv_cosim/campaigns/outcome.py): crafted runs that capture, skip out,
+"""Outcome of one run (aotv_cosim/mission/outcome.py): crafted runs that capture, skip out,
 undershoot, hit the ground and fail, the correction impulses, and records read from Monte Carlo
 rows and from real summary.json files."""
 
@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from aotv_cosim.campaigns.outcome import (
+from aotv_cosim.mission.outcome import (
     OUTCOMES, CaptureCriteria, RunRecord, classify, record_from_row, record_from_summary,
 )
 from aotv_cosim.physics import orbit

@@ -7,7 +7,7 @@ import zipfile
 import pytest
 
 from aotv_cosim.fmu import build as fmu_build
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.engine.fmu_file import check_archive
 from conftest import write_json

@@ -8,7 +8,7 @@ from click.testing import CliRunner
 
 from aotv_cosim.cli import main
 from aotv_cosim.studies.compare import COLUMNS, load_comparison, run_comparison
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 from conftest import SCENARIOS, write_json
 

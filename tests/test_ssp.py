@@ -8,11 +8,11 @@ from fmpy import read_model_description
 from fmpy.ssp.ssd import read_ssd, read_ssv
 from lxml import etree
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.runner import run_scenario
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.ssp.export import export_ssp
-from aotv_cosim.ssp.names import NS, schema_dir
+from aotv_cosim.engine.ssp_names import NS, schema_dir
 from aotv_cosim.engine.system import load_system
 from conftest import NOMINAL, WIRING, write_json
 from test_cli import error_lines, invoke

@@ -92,7 +92,7 @@ def test_a_failed_coarse_run_means_shorter_steps(tmp_path, monkeypatch):
     """A coarse run whose FMU discards a step (as the seed-002 vehicle does on 100 m asked of the
     downrange) leaves the attempt unchecked: the next one asks a tenth of its tolerances."""
     from aotv_cosim.engine import adaptive as engine_adaptive
-    from aotv_cosim.engine.errors import SimulationError
+    from aotv_cosim.errors import SimulationError
     replay, calls = engine_adaptive._replay, []
 
     def discarding_once(*args):

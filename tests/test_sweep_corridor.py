@@ -6,7 +6,7 @@ import pytest
 
 import aotv_cosim
 from aotv_cosim.campaigns.sweep import grid_points, parse_grid
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from conftest import SCENARIOS
 
 PASS = SCENARIOS / "benchmark_seed000" / "time_linear.json"

@@ -12,7 +12,7 @@ from fmpy import read_model_description
 
 from aotv_cosim import laws
 from aotv_cosim.cli import main
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.fmu.slave import unit_exponents
 

@@ -7,7 +7,7 @@ import zipfile
 
 import pytest
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.engine.system import load_system
 from conftest import write_json
@@ -156,7 +156,7 @@ def test_an_invalid_ssp_algorithm_is_refused(nominal_ssp, tmp_path):
 
 def test_unit_conversion_rules():
     """to_fmu_unit: factor and offset through the base units, plain SI names, refusals."""
-    from aotv_cosim.ssp.units import to_fmu_unit
+    from aotv_cosim.engine.ssp_units import to_fmu_unit
 
     m, km = ((0, 1, 0, 0, 0, 0, 0, 0), 1.0, 0.0), ((0, 1, 0, 0, 0, 0, 0, 0), 1000.0, 0.0)
     kelvin, celsius = ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 0.0), ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 273.15)

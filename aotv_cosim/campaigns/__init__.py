@@ -11,7 +11,7 @@
   rows.csv and rows.parquet are sorted by run, identical to an uninterrupted campaign's.
 - `report`: percentiles (summary.json `statistics`) and the 3-sigma ellipse.
 - `units`: the unit of every column (summary.json `units`, rows.parquet field metadata).
-- `outcome_rows`, `report_tables`, `figures`, `campaign_report`: each run classified, the
+- `report_tables`, `figures`, `campaign_report`: the runs classified (`aotv_cosim.mission`), the
   3-sigma table and outcome counts (console, summary.json, report.md) and the labelled plots.
 - `benchmark`, `benchmark_report`: every law of a scenario set through the same draws, scorecard.
 """

@@ -15,7 +15,7 @@ import time
 from threadpoolctl import threadpool_limits
 
 from aotv_cosim.engine import watchdog
-from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.errors import SimulationError
 from aotv_cosim.campaigns.orphans import terminate, worker_started
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS, WorkerLost, WorkerPool
 from aotv_cosim.campaigns.worker import release, run_batch, run_one

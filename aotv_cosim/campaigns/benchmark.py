@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from aotv_cosim.campaigns.campaign import run_campaign
-from aotv_cosim.campaigns.outcome import OUTCOMES
+from aotv_cosim.mission.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.worker import columns
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
 

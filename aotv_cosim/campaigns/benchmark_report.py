@@ -28,8 +28,8 @@ def table(cards, units) -> list:
 
 def console(cards, units) -> str:
     """The scorecard transposed (one column per law, one line per figure), for a terminal, in
-    display units (km, W/cm2, kJ/cm2, g; `figures.display`); the files keep SI."""
-    from aotv_cosim.campaigns.figures import display
+    display units (km, W/cm2, kJ/cm2, g; `units.display`); the files keep SI."""
+    from aotv_cosim.campaigns.units import display
 
     shown, scaled = {}, []
     for column, unit in units.items():
@@ -71,7 +71,7 @@ def plots(out_dir, rows_by_law, band=None) -> list:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from aotv_cosim.campaigns.figures import display
+    from aotv_cosim.campaigns.units import display
 
     laws = list(rows_by_law)
     ticks = [f"{law}\n{_capture_rate(rows_by_law[law]):.0f} % capt." for law in laws]

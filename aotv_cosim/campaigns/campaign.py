@@ -4,7 +4,7 @@ import time
 from pathlib import Path
 
 from aotv_cosim.engine import interrupts, plausibility, watchdog
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.campaigns import backends, campaign_report, report
 from aotv_cosim.campaigns.draws import draw

@@ -2,7 +2,7 @@
 counts (summary.json, report.md, console) and the plots (`figures`)."""
 
 from aotv_cosim.campaigns import figures, report_tables
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 
 def chosen(scenario, names) -> tuple:

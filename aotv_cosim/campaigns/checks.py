@@ -6,7 +6,7 @@ import socket
 from pathlib import Path
 from urllib.parse import urlsplit
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 CONNECT_TIMEOUT_S = 5.0
 """How long a scheduler may take to accept a TCP connection, s."""

@@ -29,7 +29,7 @@ import math
 from pathlib import Path
 
 from aotv_cosim.engine.documents import strict_json
-from aotv_cosim.engine.errors import InputError, SimulationError
+from aotv_cosim.errors import InputError, SimulationError
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
 

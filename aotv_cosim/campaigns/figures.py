@@ -2,29 +2,14 @@
 the exit-state scatter with its 3-sigma ellipse outlined under the points (histograms of the two
 exit values when only one value is dispersed: the ellipse would be degenerate); the sweep and
 corridor plots. Every axis is labelled
-with the column and its unit, in display units (km, km/s, W/cm2, kJ/cm2, g: `display`) while the
+with the column and its unit, in display units (km, km/s, W/cm2, kJ/cm2, g: `units.display`) while the
 files keep SI; ticks are limited in number and never offset."""
 
 import numpy as np
 
 from aotv_cosim.campaigns.report import ellipse_3sigma
 from aotv_cosim.campaigns.report_tables import values
-
-
-DISPLAY = {"m": ("km", 1e-3), "W/m2": ("W/cm2", 1e-4), "J/m2": ("kJ/cm2", 1e-7)}
-"""Display unit and factor (display value = SI value * factor) of the SI units engineers read
-otherwise: altitudes and apogees in km, heat rates in W/cm2, heat loads in kJ/cm2. Speeds of the
-vehicle (columns ending in .v) are shown in km/s; correction dv stays in m/s; the load factor is
-already in g. Files keep SI."""
-
-
-def display(name, unit) -> tuple:
-    """(display unit, factor) of a column in `unit` (SI): `DISPLAY`, km/s for a speed."""
-    if unit == "m/s" and name.endswith(".v"):
-        return "km/s", 1e-3
-    if unit == "1" and "load_factor" in name:
-        return "g", 1.0
-    return DISPLAY.get(unit, (unit, 1.0))
+from aotv_cosim.campaigns.units import display
 
 
 def label(name, units) -> str:

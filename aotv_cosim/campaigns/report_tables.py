@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from aotv_cosim.campaigns.outcome_rows import CLASS, counts
+from aotv_cosim.mission.outcome_rows import CLASS, counts
 
 BAND = (0.135, 50.0, 99.865)
 """Percentiles of the tables: the 3-sigma-equivalent band and the median."""
@@ -58,8 +58,8 @@ def _number(v) -> str:
 def console_table(table: dict, units: dict, outcomes: dict = None) -> str:
     """Plain-text statistics table (one line per column, unit beside the name) and the
     outcome counts, as printed after a campaign: in display units (km, km/s, W/cm2, kJ/cm2, g;
-    `figures.display`), while summary.json and report.md keep SI."""
-    from aotv_cosim.campaigns.figures import display
+    `units.display`), while summary.json and report.md keep SI."""
+    from aotv_cosim.campaigns.units import display
 
     heads = ("column", "unit") + FIELDS
     lines = []

@@ -11,7 +11,7 @@ import math
 import os
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 TEXT = ("law", "status", "error", "outcome", "outcome.reason")
 INTEGER = ("run", "steps")

@@ -22,7 +22,7 @@ from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.engine import interrupts
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario

@@ -10,7 +10,7 @@ import threading
 
 import numpy as np
 
-from aotv_cosim.campaigns import outcome_rows
+from aotv_cosim.mission import outcome_rows
 from aotv_cosim.engine.master import Master
 from aotv_cosim.engine.runner import numeric_columns
 from aotv_cosim.engine.scenario import load_scenario

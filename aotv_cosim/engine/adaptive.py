@@ -29,7 +29,7 @@ from dataclasses import replace
 import numpy as np
 
 from aotv_cosim.engine import interrupts
-from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.errors import SimulationError
 from aotv_cosim.engine.interrupts import Interrupted
 from aotv_cosim.engine.rows import Rows
 from aotv_cosim.engine.scenario import crossing

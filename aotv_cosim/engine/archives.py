@@ -13,7 +13,7 @@ import zipfile
 import zlib
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 MAX_MEMBERS = 10_000
 """Most members an archive may have (this package's FMUs have about 60)."""

@@ -21,7 +21,7 @@ its own message.
 
 import math
 
-from aotv_cosim.engine.errors import InputError, raise_if_any
+from aotv_cosim.errors import InputError, raise_if_any
 
 WHOLE_STEPS = 1e-9
 """Relative tolerance on (stop - start) / step being a whole number for a fixed-step FMU."""

@@ -8,7 +8,7 @@ draw the same values for the same campaign seed and run index.
 """
 
 from aotv_cosim.engine.documents import load_document
-from aotv_cosim.engine.paths import regular_file, resolved
+from aotv_cosim.paths import regular_file, resolved
 
 
 def dispersion_entries(doc: dict, path) -> dict:

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import jsonschema
 
-from aotv_cosim.engine.errors import InputError, raise_if_any
-from aotv_cosim.engine.paths import MAX_DOCUMENT_BYTES, regular_file
+from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.paths import MAX_DOCUMENT_BYTES, regular_file
 
 SCHEMAS = {"wiring": "wiring.schema.json", "scenario": "scenario.schema.json",
            "compare": "compare.schema.json", "dispersions": "dispersions.schema.json"}

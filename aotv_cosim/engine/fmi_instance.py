@@ -21,7 +21,7 @@ from fmpy import calloc, free
 
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.engine.archives import extract_to
-from aotv_cosim.engine.errors import SimulationError, TerminateRequest
+from aotv_cosim.errors import SimulationError, TerminateRequest
 from aotv_cosim.engine.variable_types import FMI_TYPE
 
 FMI2_LAST_SUCCESSFUL_TIME, FMI2_TERMINATED = 2, 3

@@ -13,8 +13,8 @@ from pathlib import Path, PurePosixPath
 from fmpy import read_model_description
 
 from aotv_cosim.engine.archives import check_fmu_members, check_sizes
-from aotv_cosim.engine.errors import InputError
-from aotv_cosim.engine.paths import regular_file, resolved
+from aotv_cosim.errors import InputError
+from aotv_cosim.paths import regular_file, resolved
 from aotv_cosim.fmu import build as fmu_build
 
 

@@ -43,7 +43,7 @@ import numpy as np
 
 from aotv_cosim.engine import adaptive, interrupts, ordering, watchdog
 from aotv_cosim.engine.capabilities import fixed_step_components
-from aotv_cosim.engine.errors import InputError, SimulationError, TerminateRequest
+from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.interrupts import Interrupted
 from aotv_cosim.engine.fmi_calls import Plan, bind, calls_by_type, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance

@@ -11,7 +11,7 @@ calls once per run.
 
 from dataclasses import dataclass
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 def gauss_seidel_order(system):
     """Component order for Gauss-Seidel stepping.

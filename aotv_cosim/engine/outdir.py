@@ -13,7 +13,7 @@ import fcntl
 import os
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 LOCK = ".lock"
 

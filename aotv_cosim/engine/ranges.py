@@ -14,7 +14,7 @@ negative, angles within +-90 deg, the allowed codes of integer switches. Two use
 import math
 from dataclasses import dataclass
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 
 def declared_range(fmu, name):

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.errors import SimulationError
 
 
 class OutputError(SimulationError):

@@ -5,7 +5,7 @@ and blamed on the component that produced it.
 
 import numpy as np
 
-from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.errors import SimulationError
 from aotv_cosim.engine.variable_types import typed
 
 CHUNK = 1000

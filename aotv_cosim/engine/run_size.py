@@ -15,7 +15,7 @@ Monte Carlo campaign; issue 13 item 11):
 import math
 import sys
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 ROWS_WARNING = 5_000_000
 """Rows of timeseries.csv above which loading a scenario warns (about 1 GB with 12 signals)."""

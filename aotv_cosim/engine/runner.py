@@ -8,7 +8,7 @@ import numpy as np
 
 from aotv_cosim import __version__
 from aotv_cosim.engine import interrupts, plausibility, plots
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.engine.master import Master, signals_to_read
 from aotv_cosim.engine.outdir import claimed
 from aotv_cosim.engine.results import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
@@ -155,7 +155,7 @@ def _simulate(scenario, open_series, progress):
         "plots": [],
     }
     if scenario.outcome is not None:  # classified as a campaign row would be
-        from aotv_cosim.campaigns.outcome_rows import run_outcome
+        from aotv_cosim.mission.outcome_rows import run_outcome
 
         summary["outcome"] = run_outcome(summary, scenario.outcome)
     summary["warnings"] += plausibility.run_warnings(scenario, summary)

@@ -6,9 +6,9 @@ from pathlib import Path
 
 from aotv_cosim.engine.dispersion_sets import dispersion_entries
 from aotv_cosim.engine.documents import load_document
-from aotv_cosim.engine.errors import InputError, raise_if_any
+from aotv_cosim.errors import InputError, raise_if_any
 from aotv_cosim.engine.step_control import StepControl, step_control
-from aotv_cosim.engine.paths import regular_file, resolved
+from aotv_cosim.paths import regular_file, resolved
 from aotv_cosim.engine.system import System, load_system
 from aotv_cosim.engine.ranges import check_dispersion
 from aotv_cosim.engine.capabilities import check_capabilities, default_experiment
@@ -148,7 +148,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
     """
     path = resolved(path, what="scenario file")
     if path.suffix == ".ssp":
-        from aotv_cosim.ssp.load import scenario_document
+        from aotv_cosim.engine.ssp_load import scenario_document
 
         doc = scenario_document(path, step_given=step is not None)
     else:

@@ -17,7 +17,7 @@ local error of the tolerance signals does not bound the error at the end.
 import math
 from dataclasses import dataclass
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 SAFETY, MOST_SHRINK, MOST_GROWTH = 0.9, 0.2, 4.0
 """Step-size factor: the ideal one times SAFETY, clipped to [MOST_SHRINK, MOST_GROWTH] (the usual

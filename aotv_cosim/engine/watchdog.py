@@ -30,7 +30,7 @@ import signal
 import threading
 import time
 
-from aotv_cosim.engine.errors import SimulationError
+from aotv_cosim.errors import SimulationError
 
 CAMPAIGN_STEP_TIMEOUT = 60.0
 """Step limit of campaigns and benchmarks when neither the scenario nor --step-timeout gives one, s.

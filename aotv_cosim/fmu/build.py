@@ -35,8 +35,8 @@ from xml.etree import ElementTree
 import pythonfmu
 from pythonfmu.builder import FmuBuilder
 
-from aotv_cosim.engine.errors import AotvError, BuildError, InputError
-from aotv_cosim.engine.paths import regular_file
+from aotv_cosim.errors import AotvError, BuildError, InputError
+from aotv_cosim.paths import regular_file
 from aotv_cosim.fmu import native as fmu_native
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]

@@ -44,7 +44,7 @@ import sysconfig
 import tempfile
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 HELPER = "libaotv_pyglobal.so"
 LEAN_SOURCE = Path(__file__).with_name("fmi2_lean.c")

@@ -11,7 +11,7 @@ import math
 import tempfile
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 
 def reachable_stop(scenario) -> float:

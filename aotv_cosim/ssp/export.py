@@ -29,10 +29,10 @@ from xml.etree import ElementTree
 from xml.etree.ElementTree import Element, SubElement
 
 from aotv_cosim import __version__
-from aotv_cosim.engine.errors import BuildError, InputError
+from aotv_cosim.errors import BuildError, InputError
 from aotv_cosim.fmu.build import write_reproducible_zip
 from aotv_cosim.ssp.experiment import reachable_stop
-from aotv_cosim.ssp.names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
+from aotv_cosim.engine.ssp_names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
                                 schema_problems)
 
 KINDS = ("parameter", "input", "output")

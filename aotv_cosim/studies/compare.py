@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from aotv_cosim.engine.documents import load_document
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.physics.planar import EXIT_000
 from aotv_cosim.engine.runner import run_scenario
 from aotv_cosim.engine.scenario import Scenario, StopCondition

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
 from aotv_cosim.guidance.predictive import solve_predictive, solve_predictive_adaptive
 from aotv_cosim.guidance.time_linear import approximate_law_coefficients

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 COLUMNS = ("variable", "causality", "variability", "type", "unit", "start", "min", "max", "description")
 

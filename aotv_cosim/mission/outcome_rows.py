@@ -10,7 +10,7 @@ classified impact.
 
 import math
 
-from aotv_cosim.campaigns.outcome import (CaptureCriteria, RunOutcome, classify, record_from_row,
+from aotv_cosim.mission.outcome import (CaptureCriteria, RunOutcome, classify, record_from_row,
                                            record_from_summary)
 
 CLASS, REASON = "outcome", "outcome.reason"
@@ -63,7 +63,7 @@ def run_outcome(summary: dict, settings: dict) -> dict:
 
 def counts(rows) -> dict:
     """{class: number of rows} over the rows that have a class, in outcome.OUTCOMES order."""
-    from aotv_cosim.campaigns.outcome import OUTCOMES
+    from aotv_cosim.mission.outcome import OUTCOMES
 
     tally = dict.fromkeys(OUTCOMES, 0)
     for r in rows:

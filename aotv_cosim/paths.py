@@ -9,7 +9,7 @@ import stat
 import tempfile
 from pathlib import Path
 
-from aotv_cosim.engine.errors import InputError
+from aotv_cosim.errors import InputError
 
 MAX_DOCUMENT_BYTES = 64 * 2**20
 """Largest scenario, wiring or comparison file read, bytes (the shipped ones are a few kB)."""

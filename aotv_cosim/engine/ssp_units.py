@@ -8,8 +8,8 @@ whose unit is defined in the SSV's or the SSD's `Units` (km: m = 1, factor = 100
 flown as if it were the FMU's unit.
 """
 
-from aotv_cosim.engine.errors import InputError
-from aotv_cosim.ssp.names import q
+from aotv_cosim.errors import InputError
+from aotv_cosim.engine.ssp_names import q
 
 BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
 

@@ -1,0 +1,56 @@
+"""The package's layers import only downward, so there is no import cycle between them.
+
+Every import of every module counts, also those made inside a function (a lazy import is still
+a dependency a maintainer must know of). The package root is left out: it holds the version and
+exports the API lazily, so the FMUs that bundle it never import the engine."""
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "aotv_cosim"
+
+LAYERS = ("errors", "paths", "physics", "guidance", "fmu", "laws", "mission", "engine", "ssp", "variables",
+          "studies", "campaigns", "api", "cli_usage", "cli_console", "cli", "__main__")
+"""Bottom to top: each unit (a subpackage or a top-level module) may import its own modules and
+the units before it. errors and paths: what every layer reports and checks input files with;
+physics and guidance: the equations and laws (FMUs bundle them); fmu: the FMU side (adapter
+bases, build); mission: what a run achieved (capture class, apogee, correction dv); engine:
+loading systems and scenarios (wiring JSON or SSP) and running them; ssp: export and third-party
+hosts; variables (the describe table), studies, campaigns: built on runs; api and cli: the two faces."""
+
+
+def _unit(module: str) -> str:
+    return module.split(".")[1]
+
+
+def imports_by_unit() -> dict:
+    """{unit: {unit it imports from}} over every import statement of the package."""
+    found = {}
+    for path in PACKAGE.rglob("*.py"):
+        rel = path.relative_to(PACKAGE.parent).with_suffix("")
+        if rel.parts == ("aotv_cosim", "__init__"):
+            continue
+        unit = rel.parts[1]
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                names = [node.module] + [f"{node.module}.{alias.name}" for alias in node.names]
+            else:
+                continue
+            for name in names:
+                if name.startswith("aotv_cosim.") and _unit(name) in LAYERS and _unit(name) != unit:
+                    found.setdefault(unit, set()).add(_unit(name))
+    return found
+
+
+def test_every_unit_has_a_layer():
+    units = {p.stem if p.is_file() else p.name for p in PACKAGE.iterdir()
+             if (p.suffix == ".py" and p.stem != "__init__") or (p / "__init__.py").is_file()}
+    assert units <= set(LAYERS), units - set(LAYERS)
+
+
+def test_imports_go_only_downward():
+    upward = {(unit, target) for unit, targets in imports_by_unit().items() for target in targets
+              if LAYERS.index(target) > LAYERS.index(unit)}
+    assert not upward, sorted(upward)
