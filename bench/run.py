@@ -10,7 +10,7 @@ interleaved with the measured runs. Definitions (docs/performance.md):
    same run; the timer's own cost, calibrated on a no-op, is removed from both sides), divided
    by the number of steps. Whatever the FMUs compute is excluded; everything the master does
    per step (copies, bookkeeping, stop conditions, recording every signal) is included. Also
-   the whole step: the loop's CPU per step with the FMUs' work (issue 17 target 1, <= 40 us).
+   the whole step: the loop's CPU per step with the FMUs' work (<= 40 us).
 2. Master time per step against OSP libcosim's (libcosimpy) on the same system exported to SSP
    (aotv_cosim.ssp), same step, the master with the FMUs as built and libcosim with pythonfmu's
    own wrapper in them (AOTV_COSIM_WRAPPER=stock): stepping wall time, and whole-run CPU. Then the
@@ -136,7 +136,7 @@ def target_overhead(repeats):
         naive.append(naive_us_per_step(scenario, clock=time.thread_time))
     o, whole = statistics.median(over), statistics.median(total)
     report("master overhead (loop minus time inside FMI calls), CPU", f"{o:.1f}", "<= 12", o <= 12, "us/step")
-    report("whole step, FMU work included (issue 17 target 1), CPU", f"{whole:.1f}", "<= 40", whole <= 40,
+    report("whole step, FMU work included, CPU", f"{whole:.1f}", "<= 40", whole <= 40,
            "us/step")
     print(f"     CPU per step: inside the FMI calls {statistics.median(inside):.1f} us; naive FMPy loop "
           f"{statistics.median(naive):.1f} us (ratio master/naive {whole / statistics.median(naive):.2f})")
@@ -166,7 +166,7 @@ def target_libcosim(repeats):
             peer["stepping wall"].append(result["steps_wall_s"] / outcome.steps * 1e6)
     for key in ours:
         ratio = statistics.median(ours[key]) / statistics.median(peer[key])
-        limit = 0.10 if key == "stepping wall" else 0.4  # issue 17 target 2: stepping wall <= 0.10
+        limit = 0.10 if key == "stepping wall" else 0.4  # the stepping wall target: <= 0.10
         report(f"master / libcosim per step, {key}", f"{ratio:.3f}", f"<= {limit}", ratio <= limit)
         note = " (CPU of all libcosim threads)" if key == "whole-run CPU" else ""
         print(f"     master {statistics.median(ours[key]):.1f} us/step, "

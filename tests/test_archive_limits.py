@@ -1,4 +1,4 @@
-"""Resource limits (issue 13, item 10): the duplicate-key check is linear, archives are checked
+"""Resource limits: the duplicate-key check is linear, archives are checked
 against size limits before anything is extracted, and a refused archive leaves nothing in the
 cache."""
 

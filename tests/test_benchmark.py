@@ -1,4 +1,4 @@
-"""Guidance benchmark (issue 16 items 5-6): every law of a set over the same draws, a scorecard
+"""Guidance benchmark: every law of a set over the same draws, a scorecard
 with units, rows CSV + Parquet with a law column; identical rows on 1 and 2 local workers and on a
 multi-process Dask cluster."""
 

@@ -1,4 +1,4 @@
-"""Campaign rows classified per run (issue 16 item 2): crafted runs that are captured, skip out,
+"""Campaign rows classified per run: crafted runs that are captured, skip out,
 undershoot and hit the ground; the class survives rows.csv / rows.parquet; units and checks."""
 
 import json

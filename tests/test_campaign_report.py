@@ -1,4 +1,4 @@
-"""Campaign report (issue 16 item 3): 3-sigma statistics table with units, outcome counts on the
+"""Campaign report: 3-sigma statistics table with units, outcome counts on the
 console, in summary.json and report.md; histograms of chosen columns; bad columns refused."""
 
 import json

@@ -1,5 +1,5 @@
 """Result files with units, --start/--stop, --format, describe, the console table, progress and
-the messages of rejected names (issue 15 items 2-3)."""
+the messages of rejected names."""
 
 import io
 import json

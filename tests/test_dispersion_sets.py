@@ -1,4 +1,4 @@
-"""Dispersion sets shared by scenarios (issue 16 item 1): one file, same draws for every law."""
+"""Dispersion sets shared by scenarios: one file, same draws for every law."""
 
 import json
 

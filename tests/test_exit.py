@@ -1,4 +1,4 @@
-"""No abort at interpreter exit after runs of pythonfmu FMUs (item 6 of issue 13).
+"""No abort at interpreter exit after runs of pythonfmu FMUs.
 
 The cause (see `FmuInstance._free`): the first pythonfmu library of a process is never unloaded
 and its exit-time destructor released pythonfmu's PyState a second time, after exit() had freed

@@ -1,4 +1,4 @@
-"""The figure commands after a normal install: their scenarios ship in the package (issue 15 item 4).
+"""The figure commands after a normal install: their scenarios ship in the package.
 
 The default suite lays the package out as the wheel does (pyproject's force-include) and checks
 that the figure modules find their scenarios there, from another folder; the slow tests install

@@ -1,4 +1,4 @@
-"""FMI statuses of the FMUs (issue 14 item 7): a step refused on an input outside its declared
+"""FMI statuses of the FMUs: a step refused on an input outside its declared
 range is fmi2Discard with the instance still usable, not fmi2Fatal."""
 
 import sys

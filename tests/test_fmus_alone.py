@@ -1,4 +1,4 @@
-"""Every FMU alone, as a user of another FMI tool meets it (issue 14 items 1-4).
+"""Every FMU alone, as a user of another FMI tool meets it.
 
 Each FMU runs in its own subprocess where an import finder keeps this package (aotv_cosim, however
 it is installed) out of reach: an FMU may import only its own bundled runtime, which comes from its
@@ -6,7 +6,7 @@ resources under a name of its own (aotv_cosim_<hash>, `aotv_cosim.fmu.build.isol
 
 - `test_fmu_alone_on_its_defaults`: `fmpy.simulate_fmu` with the FMU's own start values and default
   experiment instantiates, initializes, steps to the stop time and terminates, every output finite.
-- `test_fmu_state_round_trip`: every FMU declares canGetAndSetFMUstate (issue 17 item 4); after a
+- `test_fmu_state_round_trip`: every FMU declares canGetAndSetFMUstate; after a
   few steps on its defaults its state is saved, it steps on, is restored and steps again: the
   outputs repeat to the bit, twice (a state can be restored more than once).
 - `test_fmu_outputs_finite_on_zero_inputs`: every input set to 0 (what a tool that starts its

@@ -1,4 +1,4 @@
-"""Bad input at the edges (issue 13, item 9): paths, XML, SSP annotations, damaged FMUs, output
+"""Bad input at the edges: paths, XML, SSP annotations, damaged FMUs, output
 places, resumed campaigns, schedulers and click's own refusals. Each gives exit status 2 and one
 line `error: FILE: ENTRY: CAUSE; FIX`, without a traceback and without hanging."""
 

@@ -1,4 +1,4 @@
-"""Physical ranges (issue 13 item 11): declared FMI min/max, checked at validation, impact in a run."""
+"""Physical ranges: declared FMI min/max, checked at validation, impact in a run."""
 
 import json
 

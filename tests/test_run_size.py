@@ -1,4 +1,4 @@
-"""Run size (issue 13 item 11): a warning for runs writing millions of rows, a refusal for a step
+"""Run size: a warning for runs writing millions of rows, a refusal for a step
 below the resolution of the time values."""
 
 from click.testing import CliRunner

@@ -1,4 +1,4 @@
-"""Error-controlled communication steps (issue 17 item 4, `engine.adaptive`, `engine.step_control`).
+"""Error-controlled communication steps (`engine.step_doubling`, `engine.step_control`).
 
 The accuracy checks are against the monolithic SciPy reference (rtol 1e-12), whose own error is
 far below the tolerances asked here; the error budget is the scenario's tolerance itself."""
@@ -91,9 +91,9 @@ def test_a_tolerance_out_of_reach_is_a_warning(tmp_path):
 def test_a_failed_coarse_run_means_shorter_steps(tmp_path, monkeypatch):
     """A coarse run whose FMU discards a step (as the seed-002 vehicle does on 100 m asked of the
     downrange) leaves the attempt unchecked: the next one asks a tenth of its tolerances."""
-    from aotv_cosim.engine import adaptive as engine_adaptive
+    from aotv_cosim.engine import step_doubling as step_doubling
     from aotv_cosim.errors import SimulationError
-    replay, calls = engine_adaptive._replay, []
+    replay, calls = step_doubling._replay, []
 
     def discarding_once(*args):
         calls.append(1)
@@ -101,11 +101,11 @@ def test_a_failed_coarse_run_means_shorter_steps(tmp_path, monkeypatch):
             raise SimulationError("fmi2DoStep returned discard", entry="vehicle")
         return replay(*args)
 
-    monkeypatch.setattr(engine_adaptive, "_replay", discarding_once)
+    monkeypatch.setattr(step_doubling, "_replay", discarding_once)
     outcome, *_ = run(adaptive(tmp_path, NOMINAL, {"size": 0.5, "tolerance": {"vehicle.h": 1.0}}))
     stats = outcome.step_control
     assert outcome.status == "completed" and stats["attempts"] >= 2 and stats["tolerance_met"]
-    assert stats["tolerance_used"]["vehicle.h"] <= engine_adaptive.UNCHECKED_SHRINK * 1.0
+    assert stats["tolerance_used"]["vehicle.h"] <= step_doubling.UNCHECKED_SHRINK * 1.0
 
 
 def test_an_interrupted_attempt_keeps_its_rows(tmp_path):

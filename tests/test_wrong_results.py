@@ -1,4 +1,4 @@
-"""Inputs that used to run and give wrong results (issue 13, item 8): SSV units, non-Real
+"""Inputs that used to run and give wrong results: SSV units, non-Real
 ports, CSV-breaking names, duplicate SSP components and members, an unknown SSP algorithm, and
 a non-finite value blamed on the wrong FMU when recording is decimated."""
 

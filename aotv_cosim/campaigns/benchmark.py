@@ -1,4 +1,4 @@
-"""Guidance benchmark (issue 16 item 5): every law of a scenario set through the same dispersions.
+"""Guidance benchmark: every law of a scenario set through the same dispersions.
 
 A set is a folder of scenario files (e.g. scenarios/benchmark_seed000/), one law each, that share
 one dispersion set and classify their runs (`montecarlo.outcome`). Each law is a campaign of N

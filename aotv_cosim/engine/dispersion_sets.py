@@ -1,4 +1,4 @@
-"""Dispersion sets: one file of dispersions that several scenarios share (issue 16 item 1).
+"""Dispersion sets: one file of dispersions that several scenarios share.
 
 A scenario names it with `"dispersion_set": "dispersions/seed000_thesis.json"` (relative to the
 scenario; schema `dispersions.schema.json`). The set's entries come first and in its order, then

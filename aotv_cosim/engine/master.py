@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from aotv_cosim.engine import adaptive, interrupts, ordering, watchdog
+from aotv_cosim.engine import interrupts, ordering, step_doubling, watchdog
 from aotv_cosim.engine.capabilities import fixed_step_components
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.interrupts import Interrupted
@@ -70,7 +70,7 @@ class Outcome:
     """An FMU that asked to end the run: its component, the last communication point every
     component reached and the FMU's fmi2LastSuccessfulTime (s)."""
     step_control: dict = None
-    """Error-controlled runs (`engine.adaptive`): steps accepted, rejected, kept at the min
+    """Error-controlled runs (`engine.step_doubling`): steps accepted, rejected, kept at the min
     bound, sweeps made, smallest and largest step (s)."""
 
 
@@ -393,7 +393,7 @@ class Master:
 
     def _loop(self, rows, outcome):
         if self.scenario.step_control is not None:
-            return adaptive.loop(self, rows, outcome)
+            return step_doubling.loop(self, rows, outcome)
         s = self.scenario
         values, array = self.values, self.array
         start, h, stop = s.start, s.step, s.stop

@@ -1,7 +1,7 @@
 """How big a scenario's run is: rows it will write, and whether its time values can carry its step.
 
 Called when a scenario is loaded (so by `validate` and at the start of `run`, `check` and a
-Monte Carlo campaign; issue 13 item 11):
+Monte Carlo campaign):
 
 - `ROWS_WARNING`: a run that will write more rows than this gets a warning on stderr (stop
   1e6 s at 0.001 s asks for 1e9 rows, tens of GB of CSV), naming the fix (a larger step or

@@ -184,7 +184,7 @@ def _attach_fmu_log(outcome, master):
 def _warnings(scenario, outcome):
     """What a completed run did not do that the scenario asked for: a stop condition never met,
     expectations not checked because the time span was overridden, a tolerance whose global
-    error estimate is still above it after the last attempt (`engine.adaptive`); a run that
+    error estimate is still above it after the last attempt (`engine.step_doubling`); a run that
     records no signal beyond time; and the wiring's warnings
     (a unit on one side only of a connection)."""
     warnings = list(scenario.system.warnings) + _unrecorded(recorded_columns(scenario))

@@ -1,7 +1,6 @@
 """Outcome of one aeroassisted run: captured, skip_out, undershoot, impact or failed, with metrics.
 
-A pure function of what a run reports (a Monte Carlo row or a run's summary.json), issue 16
-item 2. The rules, in this order:
+A pure function of what a run reports (a Monte Carlo row or a run's summary.json). The rules, in this order:
 
 1. impact: the altitude went below zero (min h < 0, or the master stopped the run at the ground);
 2. failed: the run did not complete (an FMU or solver failure, or an interruption): its message;

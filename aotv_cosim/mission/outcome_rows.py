@@ -1,4 +1,4 @@
-"""Outcome columns of a campaign row: each run classified by `outcome.classify` (issue 16 item 2).
+"""Outcome columns of a campaign row: each run classified by `outcome.classify`.
 
 A scenario asks for them with `"montecarlo": {"outcome": {...}}` (target_apogee, band and floor in
 m, default the seed-000 criteria of `CaptureCriteria.seed000`; the vehicle and actuator component

@@ -1,4 +1,4 @@
-"""Error-controlled stepping: step doubling with FMU state save and restore (issue 17 item 4).
+"""Error-controlled stepping: step doubling with FMU state save and restore.
 
 From a communication point t the loop saves every FMU's state (fmi2GetFMUstate) and the master's
 buffer, takes one step of h, restores, and takes two steps of h/2. The difference of the two
