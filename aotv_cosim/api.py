@@ -10,13 +10,21 @@ command line prints. Calls from several threads are made one at a time (`_ONE_AT
 """
 
 import dataclasses
+import os
 import tempfile
 import threading
 from pathlib import Path
+from typing import Iterable, Mapping, Optional, Sequence, Union
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.variables import describe
 from aotv_cosim.engine.result import Campaign, Result
+
+PathLike = Union[str, os.PathLike]
+"""A file or folder path."""
+Overrides = Optional[Mapping[str, object]]
+"""{'component.variable': value} in SI (an Enumeration by its integer or item name, a Boolean as
+True/False), like `--set`."""
 
 __all__ = ["run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "Result", "Campaign", "Benchmark"]
 
@@ -27,15 +35,26 @@ pythonfmu's interpreter state, the FMU log router) and a pythonfmu FMU's Python 
 so concurrent runs would risk that state and not be faster."""
 
 
-def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots=False,
-        formats=("csv",)) -> Result:
-    """Run one scenario: a scenario file (or .ssp) path, or a loaded `scenario.Scenario`.
+def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop: Optional[float] = None,
+        step: Optional[float] = None, out: Optional[PathLike] = None, plots: bool = False,
+        formats: Sequence[str] = ("csv",)) -> Result:
+    """Run one scenario, as `aotv-cosim run` does.
 
-    set: {'comp.var': value} overrides (SI); start, stop, step: times in s overriding the
-    scenario's (with start or stop overridden, only the expectations at the event are checked).
-    out: None runs in memory and writes nothing; a folder gets the files of `aotv-cosim run`
-    (the time series in `formats`, "csv" and/or "parquet", summary.json, and the PNG plots if
-    `plots`).
+    Parameters:
+        scenario: a scenario file (or an .ssp archive) path, or a loaded `engine.scenario.Scenario`.
+        set: overrides of parameters and unconnected inputs (`Overrides`).
+        start, stop, step: times in s overriding the scenario's; with start or stop overridden,
+            only the expectations at the event are checked.
+        out: None runs in memory and writes nothing; a folder gets the files of `aotv-cosim run`.
+        plots: draw the PNG plots into `out` (needs `out`).
+        formats: the time series files, "csv" and/or "parquet".
+
+    Returns:
+        a `Result`: `.timeseries` (DataFrame indexed by time in s), `.units`, `.summary`,
+        `.status`, `.event`, `.expectations`, `.passed`, `.outcome`.
+
+    Raises:
+        errors.InputError: bad input, with the command line's one-line message.
     """
     from aotv_cosim.engine.runner import simulate, write_run
 
@@ -48,17 +67,26 @@ def run(scenario, *, set=None, start=None, stop=None, step=None, out=None, plots
         return Result(*write_run(loaded, out, make_plots=plots, formats=formats), out=Path(out))
 
 
-def montecarlo(scenario, runs, *, workers=None, seed=0, scheduler=None, out=None, set=None,
-               start=None, stop=None, keep_series=False) -> Campaign:
-    """Run `runs` dispersed runs of a scenario file over its declared dispersions.
+def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int = 0, scheduler=None,
+               out: Optional[PathLike] = None, set: Overrides = None, start: Optional[float] = None,
+               stop: Optional[float] = None, keep_series: bool = False) -> Campaign:
+    """Run `runs` dispersed runs of a scenario over its declared dispersions (`aotv-cosim montecarlo`).
 
-    workers: local processes (default: one per CPU this process may use); scheduler: a Dask
-    scheduler address or distributed.Client instead; seed: the campaign seed (run k's draws
-    depend only on it and k). out: the campaign folder (rows.csv, rows.parquet, summary.json,
-    plots), or None for a temporary one that is removed. A loaded Scenario is run from its file,
-    since every worker loads it itself. keep_series: also keep every run's recorded signals
-    (about 200 rows a run) in out/series.parquet and draw trajectories.png. Returns the rows as a
-    DataFrame with units and the statistics.
+    Parameters:
+        scenario: a scenario file, or a loaded Scenario (run from its file: every worker loads it).
+        runs: the number of runs.
+        workers: local processes; default one per CPU this process may use (the command line's
+            default is 1).
+        seed: the campaign seed; run k's draws depend only on it and k, not on workers or backend.
+        scheduler: a Dask scheduler address or distributed.Client instead of local processes.
+        out: the campaign folder (rows.csv, rows.parquet, summary.json, plots), or None for a
+            temporary one that is removed.
+        set, start, stop: as for `run`.
+        keep_series: also keep every run's recorded signals (about 200 rows a run) in
+            out/series.parquet and draw trajectories.png.
+
+    Returns:
+        a `Campaign`: `.rows` (one row per run, units in `.units`), `.statistics`, `.summary`.
     """
     import pandas as pd
 
@@ -94,14 +122,24 @@ class Benchmark:
         return f"<Benchmark {len(self.scorecard)} laws x {self.result['runs']} runs, seed {self.result['seed']}>"
 
 
-def benchmark(scenario_set, laws=(), *, runs=1000, workers=None, seed=0, scheduler=None, out=None,
-              reuse=True) -> Benchmark:
-    """Fly every law of `scenario_set` (a folder of scenarios, one law each, or one scenario
-    file) and each of `laws` (wiring or scenario files of your own laws) through the set's
-    dispersions, `runs` runs each; see `aotv-cosim benchmark`. Laws whose scenario, FMUs,
-    dispersions, seed and runs are unchanged since an earlier benchmark are not flown again (their
-    stored rows are reused, unless reuse=False). out: the output folder, or None for a temporary
-    one."""
+def benchmark(scenario_set: PathLike, laws: Iterable[PathLike] = (), *, runs: int = 1000,
+              workers: Optional[int] = None, seed: int = 0, scheduler=None, out: Optional[PathLike] = None,
+              reuse: bool = True) -> Benchmark:
+    """Fly every law of a scenario set and your own laws through the same dispersions
+    (`aotv-cosim benchmark`).
+
+    Parameters:
+        scenario_set: a folder of scenarios (one law each), one scenario file, or a shipped set's name.
+        laws: wiring or scenario files of your own laws.
+        runs: runs per law.
+        workers, seed, scheduler: as for `montecarlo`.
+        out: the output folder, or None for a temporary one.
+        reuse: laws whose scenario, FMUs, dispersions, seed and runs are unchanged since an
+            earlier benchmark are not flown again (their stored rows are reused); False flies all.
+
+    Returns:
+        a `Benchmark`: `.scorecard` (one row per law) and `.rows` (every run) as DataFrames.
+    """
     import pandas as pd
     import pyarrow.parquet as pq
 
@@ -121,11 +159,20 @@ def benchmark(scenario_set, laws=(), *, runs=1000, workers=None, seed=0, schedul
     return Benchmark(scorecard, rows, result, Path(out) if out is not None else None)
 
 
-def sweep(scenario, grids, *, workers=None, set=None, out=None):
-    """Fly `scenario` (a file) at every combination of `grids` ({"comp.var": values} or strings
-    "comp.var=LOW:HIGH:N"): one tidy DataFrame, a row per point (the parameters, status, outcome
-    class and metrics, exit state, extrema), units in `.attrs["units"]`. out: a folder for
-    sweep.csv/.parquet/.json and sweep.png, or None (nothing kept)."""
+def sweep(scenario: PathLike, grids: Union[Mapping[str, Iterable[float]], Iterable[str]], *,
+          workers: Optional[int] = None, set: Overrides = None, out: Optional[PathLike] = None):
+    """Fly a scenario at every combination of parameter values (`aotv-cosim sweep`).
+
+    Parameters:
+        scenario: a scenario file.
+        grids: {"comp.var": values} (SI), or strings "comp.var=LOW:HIGH:N".
+        workers: as for `montecarlo`; set: as for `run`.
+        out: a folder for sweep.csv/.parquet/.json and sweep.png, or None (nothing kept).
+
+    Returns:
+        a pandas DataFrame, one row per point (the parameters, status, outcome class and
+        metrics, exit state, extrema), units in `.attrs["units"]`.
+    """
     import pandas as pd
 
     from aotv_cosim.campaigns.backends import usable_cores
@@ -141,14 +188,23 @@ def sweep(scenario, grids, *, workers=None, set=None, out=None):
     return frame
 
 
-def corridor(scenario, *, lift_to_drag: float, tolerance: float = 100.0, bracket=(-0.08, -0.002),
-             out=None) -> dict:
-    """The theoretical entry corridor of `scenario` (a file whose runs are classified): the entry
-    flight-path angles (rad) bounding capture at full lift up ("steep") and full lift down
-    ("shallow") at the stated `lift_to_drag`, found by bisection until a run's apogee error is
-    within `tolerance` m of the capture band's edge; "width_rad", "width_deg" and the runs of
-    each bisection ("points": (gamma0, apogee error)). See `aotv_cosim.campaigns.corridor`. out:
-    a folder for corridor.json, corridor.png and the two scenarios flown, or None."""
+def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.0,
+             bracket: Sequence[float] = (-0.08, -0.002), out: Optional[PathLike] = None) -> dict:
+    """The theoretical entry corridor of a scenario whose runs are classified (`aotv-cosim corridor`).
+
+    Parameters:
+        scenario: a scenario file that declares an outcome.
+        lift_to_drag: the L/D flown at full lift up and full lift down.
+        tolerance: the bisection stops when a run's apogee error is within this many m of the
+            capture band's edge.
+        bracket: the entry flight-path angles searched (steep, shallow), rad.
+        out: a folder for corridor.json, corridor.png and the two scenarios flown, or None.
+
+    Returns:
+        a dict: the entry flight-path angles (rad) bounding capture at full lift up ("steep")
+        and full lift down ("shallow"), "width_rad", "width_deg", and each bisection's runs
+        ("points": (gamma0, apogee error)). See `aotv_cosim.campaigns.corridor`.
+    """
     from aotv_cosim.campaigns.corridor import run_corridor
 
     with tempfile.TemporaryDirectory(prefix="aotv_corridor_") as tmp:
