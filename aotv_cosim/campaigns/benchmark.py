@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aotv_cosim.campaigns import limits as limits_of_runs
 from aotv_cosim.campaigns.campaign import run_campaign
 from aotv_cosim.campaigns.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet
@@ -98,6 +99,7 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
     from aotv_cosim.campaigns import benchmark_report
 
     paths = scenarios_of(set_dir)
+    limits = limits_of_runs.of_set(paths)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     cards, laws, every_row, names = [], {}, [], None
@@ -108,12 +110,12 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
                                progress=progress)
         cpu = (_cpu_seconds() - cpu0) / runs if scheduler is None else None
         rows = pq.read_table(out / law / "rows.parquet").to_pylist()
-        cards.append(score(law, rows, cpu))
+        cards.append({**score(law, rows, cpu), **limits_of_runs.score(rows, limits)})
         laws[law] = summary
         names = names or ["law"] + list(rows[0])
         units = {"law": "", **summary["units"]}
         every_row += [{"law": law, **r} for r in rows]
-    units_of_scores = dict(score_columns())
+    units_of_scores = dict(score_columns() + limits_of_runs.columns(limits))
     result = {"set": str(Path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
               "units": units_of_scores, "wall_time_s": sum(s["wall_time_s"] for s in laws.values()),
               "laws": {k: {"scenario": s["scenario"], "wall_time_s": s["wall_time_s"]} for k, s in laws.items()}}

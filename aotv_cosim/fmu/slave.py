@@ -46,6 +46,7 @@ UNIT_EXPONENTS = {
     "s": {"s": 1},
     "rad": {"rad": 1},
     "rad/s": {"rad": 1, "s": -1},
+    "rad/s2": {"rad": 1, "s": -2},
     "kg/m3": {"kg": 1, "m": -3},
     "kg/m2": {"kg": 1, "m": -2},
     "m2/kg": {"kg": -1, "m": 2},
