@@ -59,7 +59,8 @@ def test_us76_layer_pressures_are_the_standards():
 def test_density_profile_is_seeded_and_correlated_over_its_length():
     """One seed, one profile; std sigma and correlation exp(-1) at one correlation length."""
     sigma, length = 0.1, 10000.0
-    assert density_profile.profile_factor(70e3, sigma, length, 7) == density_profile.profile_factor(70e3, sigma, length, 7)
+    factor = density_profile.profile_factor
+    assert factor(70e3, sigma, length, 7) == factor(70e3, sigma, length, 7)
     assert density_profile.profile_factor(70e3, 0.0, length, 7) == 1.0
     a = np.array([math.log(density_profile.profile_factor(60e3, sigma, length, s)) for s in range(600)])
     b = np.array([math.log(density_profile.profile_factor(70e3, sigma, length, s)) for s in range(600)])
@@ -149,3 +150,22 @@ def test_npc_bank_converges_at_the_nominal_entry():
                                 model_of(av.AFE), settings)
         assert corr.converged and abs(corr.prediction.miss) <= settings.tolerance
         assert math.degrees(math.acos(corr.u_c)) == pytest.approx(90.0, abs=0.5)
+
+
+def test_limits_are_counted_and_absent_from_a_set_without_them():
+    from pathlib import Path
+
+    from aotv_cosim.campaigns import limits
+
+    seed_set = sorted(Path("scenarios/benchmark_seed000").glob("*.json"))
+    assert limits.of_set(seed_set) == {} and limits.columns({}) == []  # the seed-000 scorecard is unchanged
+    stated = limits.of_set(sorted(Path("scenarios/benchmark_aerocapture/afe").glob("*.json")))
+    assert stated == {"load_factor": 5.0, "heat_rate": 1.0e6, "dynamic_pressure": 20000.0}
+    rows = [{"status": "completed", "outcome.peak_load_factor": g, "outcome.peak_heat_rate": 5e5,
+             "max.vehicle.qbar": q, "outcome.saturation_time": 10.0, "exit.time": 300.0,
+             "exit.actuator.reversals": n, "final.actuator.reversals": n}
+            for g, q, n in ((4.0, 1e4, 1.0), (6.0, 1e4, 3.0), (6.5, 3e4, 2.0))]
+    card = limits.score(rows, stated)
+    assert (card["over_load_factor"], card["over_heat_rate"], card["over_dynamic_pressure"]) == (2, 0, 1)
+    assert card["over_any_limit"] == 2 and card["reversals_max"] == 3.0 and card["reversals_p50"] == 2.0
+    assert [c for c, _ in limits.columns(stated)] == list(card)

@@ -71,8 +71,9 @@ def score(rows, limits: dict, vehicle: str = "vehicle") -> dict:
     card = {"peak_dynamic_pressure_p50": pct(qbar, 50.0), "peak_dynamic_pressure_p99.865": pct(qbar, 99.865),
             "saturation_time_p50": pct("outcome.saturation_time", 50.0),
             "saturation_time_p99.865": pct("outcome.saturation_time", 99.865)}
-    reversals = [float(r.get(_reversal_column(done, "exit"), math.nan)) if math.isfinite(float(r.get("exit.time", math.nan)))
-                 else float(r.get(_reversal_column(done, "final"), math.nan)) for r in done]
+    at_exit, at_end = _reversal_column(done, "exit"), _reversal_column(done, "final")
+    reversals = [float(r.get(at_exit if math.isfinite(float(r.get("exit.time", math.nan))) else at_end, math.nan))
+                 for r in done]
     reversals = np.array([x for x in reversals if math.isfinite(x)])
     card["reversals_p50"] = float(np.percentile(reversals, 50.0)) if len(reversals) else None
     card["reversals_max"] = float(reversals.max()) if len(reversals) else None
