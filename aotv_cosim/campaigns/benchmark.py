@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aotv_cosim.campaigns import limits as limits_of_runs
 from aotv_cosim.campaigns.campaign import run_campaign
 from aotv_cosim.mission.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet
@@ -229,6 +230,7 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
     if given, is told which laws are reused and which are flown."""
     out = Path(out_dir)
     flown = law_scenarios(set_dir, laws, out)  # every law checked before anything is written
+    limits = limits_of_runs.of_set(scenarios_of(set_dir))  # the set's stated limits, for every law
     out.mkdir(parents=True, exist_ok=True)
     cards, summaries, every_row, names, units = [], {}, [], None, None
     for law, path in flown.items():
@@ -246,12 +248,13 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
             summaries[law] = {"scenario": str(path), "wall_time_s": record["wall_time_s"], "reused": False}
             if record["status"] == "completed" and len(rows) == runs:
                 _store(key, rows, list(rows[0]), record)
-        cards.append({**record["card"], "law": law})
+        cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits)})
         names = names or ["law"] + list(rows[0])
         units = units or {"law": "", **record["units"]}
         every_row += [{"law": law, **r} for r in rows]
     band = load_scenario(next(iter(flown.values()))).outcome.get("band", 10e3)
-    return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band))
+    return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band),
+                          limits_of_runs.columns(limits))
 
 
 def _fly(law, path, runs, out, workers, seed, scheduler, progress):
@@ -273,10 +276,11 @@ def _fly(law, path, runs, out, workers, seed, scheduler, progress):
     return rows, record
 
 
-def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, band) -> dict:
+def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, band,
+                   limit_columns) -> dict:
     from aotv_cosim.campaigns import benchmark_report
 
-    units_of_scores = dict(score_columns())
+    units_of_scores = dict(score_columns() + limit_columns)
     result = {"set": str(set_path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
               "units": units_of_scores, "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()),
               "laws": summaries}

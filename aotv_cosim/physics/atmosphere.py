@@ -42,3 +42,18 @@ def density_dispersion(elapsed: float, factor: float = 1.0, amplitude: float = 0
 def _uniform_draw(seed: int, index: int) -> float:
     """U_k uniform on [-1, 1) for (seed, k), from numpy's SeedSequence((seed, k))."""
     return float(np.random.default_rng([seed, index]).uniform(-1.0, 1.0))
+
+
+MODEL_EXPONENTIAL, MODEL_US76 = 0, 1
+"""Density models of the Atmosphere FMU: the exponential above, the US Standard Atmosphere 1976."""
+
+
+def model_density(model: int, h: float, rho_ref: float, h_ref: float, scale_height: float) -> float:
+    """Density (kg/m^3) at geometric altitude h (m): `exponential_density` (MODEL_EXPONENTIAL,
+    parameters rho_ref kg/m^3, h_ref m, scale_height m) or US76 (MODEL_US76, `physics.us76`,
+    parameters unused)."""
+    if model == MODEL_US76:
+        from aotv_cosim.physics import us76
+
+        return us76.density(h)
+    return exponential_density(h, rho_ref, h_ref, scale_height)
