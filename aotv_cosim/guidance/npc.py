@@ -250,6 +250,19 @@ def _clip(u, s):
     return min(max(u, s.u_min), s.u_max)
 
 
+def bracket(x: float, f: float, low, high, side: int):
+    """(low, high, side): the Illinois bracket of a root after the trial (x, f(x)); low and high are
+    [x, f] lists or None, side the sign of the last trial's f (the end kept twice in a row has its
+    f halved, so the regula falsi candidate leaves it)."""
+    if f > 0.0:
+        if side > 0 and low is not None:
+            low[1] *= 0.5
+        return low, [x, f], 1
+    if side < 0 and high is not None:
+        high[1] *= 0.5
+    return [x, f], high, -1
+
+
 def _secant(u, f, prev, s: NpcSettings) -> float:
     """Secant step from (u, f) through the last usable iterate prev, at most du_max long; a first
     step of du_secant without prev or when the two points do not show the apogee growing with u."""
@@ -290,14 +303,7 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
             return Correction(u, pred, iterations, True)
         if iterations >= s.max_iter:
             break
-        if f > 0.0:
-            if side > 0 and low is not None:
-                low[1] *= 0.5
-            high, side = [u, f], 1
-        else:
-            if side < 0 and high is not None:
-                high[1] *= 0.5
-            low, side = [u, f], -1
+        low, high, side = bracket(u, f, low, high, side)
         if low is not None and high is not None:
             if math.isfinite(low[1]) and math.isfinite(high[1]):
                 candidate = low[0] - low[1] * (high[0] - low[0]) / (high[1] - low[1])

@@ -173,14 +173,7 @@ def correct(t_k: float, state, x_guess: float, scale: float, model: BankModel, s
             return npc.Correction(x, pred, iterations, True)
         if iterations >= s.max_iter:
             break
-        if f > 0.0:
-            if side > 0 and low is not None:
-                low[1] *= 0.5
-            high, side = [x, f], 1
-        else:
-            if side < 0 and high is not None:
-                high[1] *= 0.5
-            low, side = [x, f], -1
+        low, high, side = npc.bracket(x, f, low, high, side)
         if low is not None and high is not None:
             if math.isfinite(low[1]) and math.isfinite(high[1]):
                 candidate = low[0] - low[1] * (high[0] - low[0]) / (high[1] - low[1])
