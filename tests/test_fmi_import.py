@@ -331,3 +331,19 @@ def test_expectation_values_must_fit_their_type(tmp_path, fmus):
     summary = json.loads(json.dumps(simulate(load_scenario(_files(tmp_path, wiring, {"stop": 1.0, "step": 0.5,
         "expectations": [{"signal": "c.count", "at": "end", "value": 3, "source": "x"}]}))).summary))
     assert summary["expectations"][0]["passed"] is False  # 2 steps from 0: count 2, exactly
+
+
+def test_a_converting_connection_is_not_exported_to_ssp(tmp_path, fmus):
+    """SSP 1.0 connections carry no conversion: a system with '(as Real)' is refused in one line
+    naming the connection, not written as a plain connection that reads back as a type mismatch."""
+    from aotv_cosim.errors import InputError
+    from aotv_cosim.ssp.export import export_ssp
+
+    for fmu in fmus.glob("*.fmu"):
+        (tmp_path / fmu.name).symlink_to(fmu)
+    wiring = {"components": {"c": TYPED_WIRING["components"]["c"], "s": {"fmu": "Sink.fmu"}},
+              "connections": ["c.count -> s.n", "c.even -> s.flag", "c.tag -> s.text", "c.count -> s.u (as Real)"]}
+    scenario = load_scenario(_files(tmp_path, wiring, {"stop": 1.0, "step": 0.25}))
+    with pytest.raises(InputError, match=r"c\.count -> s\.u \(as Real\) converts Real"):
+        export_ssp(scenario, tmp_path / "typed.ssp")
+    assert not (tmp_path / "typed.ssp").exists()

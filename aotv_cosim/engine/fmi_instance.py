@@ -78,9 +78,11 @@ def _demote_new_paths(before: list) -> None:
     """Move the sys.path entries inserted since `before` (a copy) to its end.
 
     A pythonfmu FMU inserts its resources folder first on the host's sys.path at every
-    instantiation; ours bundle a partial copy of aotv_cosim there, which would then shadow the
-    real package in every process started later from this one (a Monte Carlo or Dask worker
-    spawned with this sys.path). At the end the folder still serves the FMU's own later imports.
+    instantiation. This package's FMUs bundle their runtime under names of their own, but another
+    tool's pythonfmu FMU may bundle modules under common names (its own `pythonfmu`, a helper
+    module), which would then shadow the installed ones in every process started later from this
+    one (a Monte Carlo or Dask worker spawned with this sys.path). At the end the folder still
+    serves the FMU's own later imports.
     """
     n_new = len(sys.path) - len(before)
     if n_new > 0 and sys.path[n_new:] == before:

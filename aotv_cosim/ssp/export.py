@@ -126,6 +126,10 @@ def _ssd(scenario, sources, ssv_sources):
     if system.connections:
         connections = SubElement(top, q("ssd:Connections"))
         for c in system.connections:
+            if c.as_type:  # SSP 1.0 has no conversion on a connection: a plain one is a type mismatch
+                raise InputError(f"the connection {c} converts {c.as_type}, which an SSP connection cannot "
+                                 "express", file=system.path, entry="connections",
+                                 fix="export a system whose connections join variables of one type")
             SubElement(connections, q("ssd:Connection"),
                        {"startElement": c.source, "startConnector": c.output,
                         "endElement": c.target, "endConnector": c.input})
