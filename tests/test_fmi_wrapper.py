@@ -218,3 +218,18 @@ def test_unknown_wrapper_is_refused(monkeypatch):
         native.wrapper()
     monkeypatch.setenv(native.WRAPPER_VARIABLE, "Stock")
     assert native.wrapper() == "stock"
+
+
+def test_an_unknown_wrapper_is_one_line(monkeypatch, tmp_path):
+    """AOTV_COSIM_WRAPPER=foo is bad input met by every component's build: exit 2 and the one line
+    once, not once per component."""
+    from click.testing import CliRunner
+
+    from aotv_cosim.cli import main
+    from conftest import NOMINAL
+
+    monkeypatch.setenv("AOTV_COSIM_WRAPPER", "foo")
+    result = CliRunner().invoke(main, ["run", str(NOMINAL), "--out", str(tmp_path / "o")])
+    assert result.exit_code == 2
+    line, = result.stderr.splitlines()
+    assert "AOTV_COSIM_WRAPPER: unknown FMI wrapper 'foo'" in line
