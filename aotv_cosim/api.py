@@ -214,7 +214,7 @@ def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.
 
 def _scenario(scenario, sets, start, stop, step):
     """A loaded Scenario with the overrides applied (a path is loaded with them)."""
-    from aotv_cosim.engine.scenario import Scenario, _check_times, load_scenario
+    from aotv_cosim.engine.scenario import Scenario, check_times, load_scenario
     from aotv_cosim.engine.system import load_system
 
     if not isinstance(scenario, Scenario):
@@ -232,5 +232,5 @@ def _scenario(scenario, sets, start, stop, step):
     if not changed:
         return scenario
     result = dataclasses.replace(scenario, **changed)
-    _check_times(result)
+    check_times(result)
     return result

@@ -193,7 +193,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
         step_timeout=doc.get("step_timeout"),
     )
-    _check_times(scenario)
+    check_times(scenario)
     check_capabilities(scenario)
     _check_signals(scenario, doc)
     scenario.expectations = [_enumerated(scenario.system, e) for e in scenario.expectations]
@@ -228,7 +228,10 @@ def _step_options(doc) -> dict:
     return step if isinstance(step, dict) else {"size": step}
 
 
-def _check_times(s: Scenario):
+def check_times(s: Scenario):
+    """Raise InputError when the scenario's times cannot run: a step that is not positive, a stop
+    not after the start, too many communication points or rows, an expectation outside the span.
+    Called on load and by the API after it overrides the times of a loaded scenario."""
     problems = []
     if not math.isfinite(s.step) or not s.step > 0:
         problems.append(InputError(f"step must be positive, got {s.step}", file=s.path, entry="step",
