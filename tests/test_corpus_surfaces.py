@@ -248,3 +248,10 @@ def test_a_bracket_on_one_side_of_the_edge_is_one_line(tmp_path):
     one_line(["corridor", PASS, "--lift-to-drag", "5", "--bracket", "-0.08", "-0.07", "--out", tmp_path / "o"],
              tmp_path / "o" / "lift_up.json", "--bracket", "lift_up: the apogee error does not cross -10000 m",
              "widen the bracket")
+
+
+def test_an_fmu_whose_binary_cannot_be_loaded_is_one_line(typed_scenario, tmp_path):
+    """typed.fmu passes validate (its modelDescription is sound) but its binary is text: the run
+    names the FMU and the loader's reason (was exit 3 and FMPy's 'Failed to load shared library')."""
+    one_line(["run", typed_scenario, "--out", tmp_path / "o", "--no-plots"], CORPUS / "fmus" / "typed.fmu",
+             "component t", "typed.fmu: its binary cannot be loaded: file too short", "give an FMU whose binary")
