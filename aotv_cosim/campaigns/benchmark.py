@@ -94,12 +94,14 @@ def law_scenarios(set_dir, law_files, work_dir) -> dict:
     and columns are the set's. InputError for a clash of names or a law that does not fit."""
     paths = scenarios_of(set_dir)
     laws = {path.stem: path for path in paths}
+    set_names = set(laws)
     template = paths[0]
     reference = load_scenario(template)
     for law_file in map(Path, law_files):
         law = law_file.stem
-        if law in laws:
-            raise InputError(f"a law named {law!r} is already in the set", file=law_file,
+        if law in laws:  # a law is named by its file name: two --law files may clash too
+            where = "in the set" if law in set_names else "given by another --law file"
+            raise InputError(f"a law named {law!r} is already {where}", file=law_file, entry="--law",
                              fix="rename the law file")
         if not law_file.is_file():
             raise InputError("file not found", file=law_file, entry="--law",

@@ -94,9 +94,7 @@ def run_corridor(scenario_path, out_dir, lift_to_drag: float, tolerance: float =
     Written to out_dir/corridor.json with corridor.png. bracket: the gamma0 range searched (rad)."""
     from aotv_cosim.campaigns.worker import Runner
 
-    if not lift_to_drag > 0.0 or not tolerance > 0.0:
-        raise InputError("lift_to_drag and tolerance must be positive", entry="--lift-to-drag/--tolerance",
-                         fix="give L/D > 0 and a tolerance in m > 0")
+    check_options(scenario_path, lift_to_drag, tolerance, bracket)
     out = Path(out_dir)
     paths = corridor_scenarios(scenario_path, out, lift_to_drag)
     scenario = load_scenario(scenario_path)
@@ -122,6 +120,21 @@ def run_corridor(scenario_path, out_dir, lift_to_drag: float, tolerance: float =
         result[bound]["points"] = [(g, e if math.isfinite(e) else str(e)) for g, e in result[bound]["points"]]
     write_json_atomically(out / "corridor.json", result)
     return result
+
+
+def check_options(scenario_path, lift_to_drag: float, tolerance: float, bracket) -> None:
+    """Refuse, before any run, a non-finite or non-positive L/D or tolerance (an infinite one
+    cannot be written to corridor.json) and a bracket that is not finite or whose steep bound is
+    not below its shallow one (a reversed or empty bracket cannot hold a crossing)."""
+    if not (math.isfinite(lift_to_drag) and lift_to_drag > 0.0 and math.isfinite(tolerance) and tolerance > 0.0):
+        raise InputError(f"lift_to_drag and tolerance must be finite and positive, got {lift_to_drag!r} and "
+                         f"{tolerance!r}", file=str(scenario_path), entry="--lift-to-drag/--tolerance",
+                         fix="give L/D > 0 and a tolerance in m > 0")
+    steep, shallow = bracket
+    if not (math.isfinite(steep) and math.isfinite(shallow) and steep < shallow):
+        raise InputError(f"the bracket ({steep!r}, {shallow!r}) rad is not a finite range from steep to shallow",
+                         file=str(scenario_path), entry="--bracket",
+                         fix="give STEEP SHALLOW with STEEP < SHALLOW (rad), e.g. --bracket -0.08 -0.002")
 
 
 def _apogee_error(runner, signal, gamma0) -> float:

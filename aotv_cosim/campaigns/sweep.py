@@ -2,7 +2,8 @@
 campaign, into one tidy table.
 
 A grid is `comp.var=LOW:HIGH:N` (N values evenly spaced from LOW to HIGH, both included) or
-`comp.var=A,B,C` (the values listed), in SI. Several grids give every combination. Each point is
+`comp.var=A,B,C` (the values listed), in SI; LOW above HIGH flies the values in descending order.
+Several grids give every combination, at most `MAX_POINTS` points (refused before any run). Each point is
 one run of the campaign worker (`worker.run_batch`, FMUs reused between runs): its row holds the
 parameter values (one column each, named by the parameter), status, error, the final, minimum,
 maximum and exit values of the recorded signals and, when the scenario declares
@@ -28,26 +29,50 @@ from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
 
 
-def parse_grid(text: str) -> tuple:
-    """(parameter, values) of a grid `comp.var=LOW:HIGH:N` or `comp.var=A,B,C`; InputError if
-    malformed."""
+MAX_POINTS = 100_000
+"""Most grid points one sweep flies: above, a typo (an extra zero in N) would start a sweep of days
+and allocate every point up front, so it is refused before any run."""
+
+
+def parse_grid(text: str, file=None) -> tuple:
+    """(parameter, values) of a grid `comp.var=LOW:HIGH:N` or `comp.var=A,B,C`; InputError
+    (naming `file`, the scenario) if malformed, with N < 1 or N > MAX_POINTS."""
     name, _, spec = text.partition("=")
     fix = "write COMP.VAR=LOW:HIGH:N (e.g. vehicle.gamma0=-0.03:-0.01:9) or COMP.VAR=A,B,C"
     if not name or "." not in name or not spec:
-        raise InputError(f"cannot read the grid {text!r}", entry="--grid", fix=fix)
+        raise InputError(f"cannot read the grid {text!r}", file=file, entry="--grid", fix=fix)
     try:
         if ":" in spec:
             low, high, count = spec.split(":")
+            if not 1 <= int(count) <= MAX_POINTS:  # checked before linspace allocates N values
+                raise InputError(f"the grid {text!r} asks for {int(count)} points", file=file, entry="--grid",
+                                 fix=f"give N from 1 to {MAX_POINTS}")
             values = np.linspace(float(low), float(high), int(count))
-            if int(count) < 1:
-                raise ValueError
         else:
             values = np.array([float(v) for v in spec.split(",")])
     except ValueError:
-        raise InputError(f"cannot read the grid {text!r}", entry="--grid", fix=fix) from None
+        raise InputError(f"cannot read the grid {text!r}", file=file, entry="--grid", fix=fix) from None
     if not np.all(np.isfinite(values)):
-        raise InputError(f"the grid {text!r} has a value that is not finite", entry="--grid", fix=fix)
+        raise InputError(f"the grid {text!r} has a value that is not finite", file=file, entry="--grid", fix=fix)
     return name.strip(), [float(v) for v in values]
+
+
+def check_grids(grids, file=None) -> None:
+    """Refuse a parameter given by two grids (the points would silently keep only the last
+    grid's value), a grid without values and more than MAX_POINTS combinations."""
+    names = [name for name, _ in grids]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        raise InputError(f"{', '.join(twice)} is given by several grids", file=file, entry="--grid",
+                         fix="give each parameter one --grid (list its values as A,B,C)")
+    empty = [name for name, values in grids if not len(values)]
+    if empty:
+        raise InputError(f"the grid of {empty[0]} has no value", file=file, entry="--grid",
+                         fix="give at least one value per grid")
+    points = int(np.prod([len(values) for _, values in grids], dtype=object))
+    if points > MAX_POINTS:
+        raise InputError(f"the grids make {points} points", file=file, entry="--grid",
+                         fix=f"give at most {MAX_POINTS} points (fewer values per grid, or several sweeps)")
 
 
 def grid_points(grids) -> list:
@@ -61,10 +86,12 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
     returns {"rows": [row dicts], "columns", "units", "parameters", "status", "wall_time_s",
     "plots"} and writes the files of the module docstring. SIGINT/SIGTERM stop it: the points
     flown by then are written, status "interrupted"."""
-    grids = [parse_grid(g) if isinstance(g, str) else g for g in grids]
-    if not grids:
-        raise InputError("no grid given", entry="--grid", fix="give at least one --grid COMP.VAR=LOW:HIGH:N")
     scenario_path = Path(scenario_path).resolve()
+    grids = [parse_grid(g, scenario_path) if isinstance(g, str) else g for g in grids]
+    if not grids:
+        raise InputError("no grid given", file=scenario_path, entry="--grid",
+                         fix="give at least one --grid COMP.VAR=LOW:HIGH:N")
+    check_grids(grids, scenario_path)
     scenario = load_scenario(scenario_path, sets)
     parameters = [name for name, _ in grids]
     for name in parameters:

@@ -99,7 +99,11 @@ def load_document(path, kind: str) -> dict:
     regular_file(path, what=f"{kind} file", max_bytes=MAX_DOCUMENT_BYTES)  # no FIFO, device, loop
     try:
         text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError as exc:  # the entry is where the first byte that is not UTF-8 stands
+        line = exc.object[:exc.start].count(b"\n") + 1
+        raise InputError(f"not UTF-8: {exc.reason} (byte {exc.object[exc.start]:#04x})", file=path,
+                         entry=f"line {line} (byte offset {exc.start})", fix=f"give a UTF-8 {kind} JSON file")
+    except OSError as exc:
         raise InputError(f"cannot read: {exc}", file=path, fix=f"give a UTF-8 {kind} JSON file")
     try:
         doc = strict_json(text)

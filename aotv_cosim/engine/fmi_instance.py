@@ -21,7 +21,7 @@ from fmpy import calloc, free
 
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.engine.archives import extract_to
-from aotv_cosim.errors import SimulationError, TerminateRequest
+from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.variable_types import FMI_TYPE
 
 FMI2_LAST_SUCCESSFUL_TIME, FMI2_TERMINATED = 2, 3
@@ -114,8 +114,17 @@ class FmuInstance:
         self.broken = False
         self.messages = collections.deque(maxlen=50)
         md = info.model_description
-        self.slave = FMU2Slave(guid=md.guid, unzipDirectory=str(extracted(info.path)),
-                               modelIdentifier=info.model_identifier, instanceName=name)
+        try:
+            self.slave = FMU2Slave(guid=md.guid, unzipDirectory=str(extracted(info.path)),
+                                   modelIdentifier=info.model_identifier, instanceName=name)
+        except Exception as exc:  # FMPy's text for a binary dlopen refuses (not a library, a missing dependency)
+            if not str(exc).startswith("Failed to load shared library"):
+                raise
+            detail = str(exc).rsplit(": ", 1)[-1]
+            raise InputError(f"{info.path.name}: its binary cannot be loaded: {detail}", file=str(info.path),
+                             entry=f"component {name}",
+                             fix="give an FMU whose binary is a shared library built for this platform, "
+                                 "with its dependencies installed") from None
         self._callbacks = self._make_callbacks()
         before = list(sys.path)
         try:

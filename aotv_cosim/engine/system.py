@@ -109,22 +109,43 @@ def check_value(var: Variable, value, *, file, entry, fmu=None):
             return []
         known = items(fmu, var.name) if fmu is not None else {}
         listed = ", ".join(f"{v} ({n!r})" for n, v in known.items())
-        return [InputError(f"{var.name} is an Enumeration, got {value!r}", file=file, entry=entry,
+        return [InputError(f"{var.name} is an Enumeration, got {_shown(value)}", file=file, entry=entry,
                            fix=f"give one of its items by integer or name: {listed}")]
     ok = {"Real": isinstance(value, (int, float)) and not isinstance(value, bool),
           "Integer": isinstance(value, int) and not isinstance(value, bool),
           "Boolean": isinstance(value, bool),
           "String": isinstance(value, str)}.get(var.type, False)
     if not ok:
-        return [InputError(f"{var.name} is {var.type}, got {value!r}", file=file, entry=entry,
+        return [InputError(f"{var.name} is {var.type}, got {_shown(value)}", file=file, entry=entry,
                            fix=f"give {_a(var.type)} {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
     if var.type == "Real" and not math.isfinite(value):
         return [InputError(f"{var.name} must be finite, got {value!r}", file=file, entry=entry,
                            fix="give a finite number")]
+    if var.type == "String" and ("\0" in value or not _utf8(value)):
+        return [InputError(f"{var.name} is a String, got {_shown(value)} (a NUL character or text that is not "
+                           "UTF-8)", file=file, entry=entry,
+                           fix="give UTF-8 text without NUL characters (an FMI String is a NUL-ended UTF-8 C string)")]
     if var.type == "Integer" and not -2**31 <= value < 2**31:
         return [InputError(f"{var.name} is a 32-bit Integer, got {value}", file=file, entry=entry,
                            fix="give an integer between -2147483648 and 2147483647")]
     return []
+
+
+def _utf8(text: str) -> bool:
+    """True if `text` can be encoded as UTF-8: not if it holds lone surrogates, which Python uses
+    for bytes of a command line that are not UTF-8 (a String would fail only when set in the FMU)."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
+def _shown(value, limit: int = 40) -> str:
+    """repr of `value`, a text cut to `limit` characters so a very long one keeps the error line short."""
+    if isinstance(value, str) and len(value) > limit:
+        return repr(value[:limit]) + f"... ({len(value)} characters)"
+    return repr(value)
 
 
 def _a(word: str) -> str:

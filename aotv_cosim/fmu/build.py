@@ -122,6 +122,8 @@ def check_source(source: Path) -> type:
     except Exception as exc:
         frames = [f for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename) == source]
         where = f"line {frames[-1].lineno}" if frames else None
+        if isinstance(exc, SyntaxError):  # raised while compiling: the line is on the error, not in a frame
+            where = f"line {exc.lineno}" if exc.lineno else "(whole file)"
         raise InputError(f"importing it raised {type(exc).__name__}: {exc}", file=str(source), entry=where,
                          fix="fix the source (run `python " + source.name + "` to see the traceback)") from exc
     finally:
@@ -129,14 +131,14 @@ def check_source(source: Path) -> type:
     classes = [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, Fmi2Slave)
                and c.__module__ == name and not inspect.isabstract(c)]
     if not classes:
-        raise InputError("defines no concrete FMU class", file=str(source),
+        raise InputError("defines no concrete FMU class", file=str(source), entry="(top level)",
                          fix="define a subclass of aotv_cosim.laws.AotvSlave (or one of its guidance bases) "
                              "with do_step and every abstract method")
     longest = max(len(c.__mro__) for c in classes)
     chosen = [c for c in classes if len(c.__mro__) == longest]
     if len(chosen) > 1:
         raise InputError(f"defines several FMU classes ({', '.join(c.__name__ for c in chosen)})",
-                         file=str(source), fix="keep one FMU class per file")
+                         file=str(source), entry="(top level)", fix="keep one FMU class per file")
     return chosen[0]
 
 
@@ -193,6 +195,8 @@ def ensure_fmu(ref, out_dir=None) -> Path:
     name = source.stem
     if target.is_file() and built_hash(target) == digest:
         return target
+    if is_source_path(ref):
+        check_source(source)  # a broken user source is one error line, before any progress is shown
     for hook in BUILD_HOOKS:
         hook(name, "start")
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -355,7 +359,8 @@ def _validate(fmu: Path, source: Path) -> None:
     from fmpy.validation import validate_fmu
 
     problems = validate_fmu(str(fmu))
-    if problems:
-        raise BuildError("fmpy validate: " + " | ".join(problems),
-                         file=str(source),
-                         fix="declare every variable through AotvSlave.parameter/input/output")
+    if problems:  # in a user's source (a class declaring no variable) it is bad input, in fmus_src a bug
+        error = BuildError if source.parent == fmus_src_dir() else InputError
+        raise error("fmpy validate: " + " | ".join(problems),
+                    file=str(source), entry="modelDescription.xml",
+                    fix="declare every variable through AotvSlave.parameter/input/output")

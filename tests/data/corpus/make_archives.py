@@ -4,7 +4,10 @@ Each archive is wrong in one way the wiring loader must report: not a zip, no mo
 broken XML, model exchange only, a member with an absolute path or one climbing out with '..',
 no binary, a binary not named after the modelIdentifier, a member inflating 4 MiB of zeros, a
 member failing its CRC check, a binary and a modelDescription whose deflate stream is corrupt, a well-formed FMU whose Integer output cannot feed a Real input,
-and one with Integer ports (which the master does not exchange).
+and one with Integer ports (which the master does not exchange); `typed.fmu` with a parameter of each
+typed kind (its values are the wiring cases' target) and four copies with one malformed typed
+variable: an Enumeration without declaredType, one naming no TypeDefinition, Integer start "abc",
+Boolean start "maybe".
 """
 
 import zipfile
@@ -30,6 +33,34 @@ def description(kind="<CoSimulation modelIdentifier=\"Crafted\"/>", causality="o
     <ScalarVariable name="count" valueReference="0" causality="{causality}" variability="discrete" initial="exact">{start}</ScalarVariable>{second}
   </ModelVariables>
   <ModelStructure><Outputs><Unknown index="1"/></Outputs></ModelStructure>
+</fmiModelDescription>
+"""
+
+
+TYPED_VARIABLES = """
+    <ScalarVariable name="n" valueReference="0" causality="parameter" variability="fixed"><Integer start="{n_start}"/></ScalarVariable>
+    <ScalarVariable name="flag" valueReference="1" causality="parameter" variability="fixed"><Boolean start="{flag_start}"/></ScalarVariable>
+    <ScalarVariable name="mode" valueReference="2" causality="parameter" variability="fixed"><Enumeration {mode_type} start="1"/></ScalarVariable>
+    <ScalarVariable name="text" valueReference="3" causality="parameter" variability="fixed"><String start="a"/></ScalarVariable>
+    <ScalarVariable name="x" valueReference="4" causality="output" variability="continuous"><Real/></ScalarVariable>
+    <ScalarVariable name="label" valueReference="5" causality="output" variability="discrete" initial="exact"><String start="a"/></ScalarVariable>
+    <ScalarVariable name="k" valueReference="6" causality="output" variability="discrete" initial="exact"><Integer start="0"/></ScalarVariable>
+    <ScalarVariable name="u" valueReference="7" causality="input" variability="continuous"><Real start="0"/></ScalarVariable>
+    <ScalarVariable name="m" valueReference="8" causality="input" variability="discrete"><Integer start="0"/></ScalarVariable>"""
+
+
+def typed_description(n_start="0", flag_start="false", mode_type='declaredType="Modes"'):
+    """A co-simulation FMU with an Integer, a Boolean, an Enumeration (type Modes: Hold=1, Ramp=2)
+    and a String parameter, Real/String/Integer outputs and Real/Integer inputs; the keyword
+    arguments put a malformed start or declared type in."""
+    variables = TYPED_VARIABLES.format(n_start=n_start, flag_start=flag_start, mode_type=mode_type)
+    return f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="2.0" modelName="Crafted" guid="{{00000000-0000-0000-0000-000000000002}}">
+  <CoSimulation modelIdentifier="Crafted"/>
+  <TypeDefinitions><SimpleType name="Modes"><Enumeration><Item name="Hold" value="1"/><Item name="Ramp" value="2"/></Enumeration></SimpleType></TypeDefinitions>
+  <ModelVariables>{variables}
+  </ModelVariables>
+  <ModelStructure><Outputs><Unknown index="5"/><Unknown index="6"/><Unknown index="7"/></Outputs></ModelStructure>
 </fmiModelDescription>
 """
 
@@ -64,6 +95,11 @@ def main():
     at = data.index(BINARY.encode()) + len(BINARY) + 4  # inside the binary's compressed data
     data[at] ^= 0xFF
     (HERE / "corrupt_member.fmu").write_bytes(bytes(data))
+    for name, options in (("typed.fmu", {}), ("enumeration_untyped.fmu", {"mode_type": ""}),
+                          ("enumeration_unknown_type.fmu", {"mode_type": 'declaredType="Gears"'}),
+                          ("integer_start_abc.fmu", {"n_start": "abc"}),
+                          ("boolean_start_maybe.fmu", {"flag_start": "maybe"})):
+        write_zip(name, {"modelDescription.xml": typed_description(**options), BINARY: "not a library\n"})
     for name, member in (("bad_deflate_binary.fmu", BINARY), ("bad_deflate_description.fmu", "modelDescription.xml")):
         write_zip(name, {"modelDescription.xml": description(), BINARY: "not a library\n" * 50})
         break_deflate(HERE / name, member)
