@@ -8,7 +8,6 @@ the problem. The typed-value cases use the corpus's crafted FMU tests/data/corpu
 
 import json
 import os
-import shutil
 
 import pytest
 from click.testing import CliRunner
