@@ -1,9 +1,9 @@
 """NpcBankGuidance FMU: numerical predictor-corrector aerocapture guidance by bank angle."""
 
 import math
-import time as clock
 
-from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
+from aotv_cosim.fmu.guidance_slave import CycledGuidance
+from aotv_cosim.fmu.slave import POSITIVE
 from aotv_cosim.guidance import lateral, npc, npc_bank
 from aotv_cosim.physics import aerocapture_vehicles as av
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
@@ -11,7 +11,7 @@ from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 MEASURED = ("h", "v", "gamma")
 
 
-class NpcBankGuidance(AotvSlave):
+class NpcBankGuidance(CycledGuidance):
     """Every cycle_period s: predict to exit with the vehicle's own model and correct the bank
     magnitude by secant (`aotv_cosim.guidance.npc_bank`); the sign of the bank comes from the
     lateral logic (`guidance.lateral`, reversals outside the plane-error deadband), updated at each
@@ -79,7 +79,7 @@ class NpcBankGuidance(AotvSlave):
         self._reset()
 
     def _reset(self):
-        self._memory = self._last = self._pending = None
+        self.reset_cycles()
         self.sign, self.saturation_time = 1, 0.0
 
     def _settings(self):
@@ -92,26 +92,11 @@ class NpcBankGuidance(AotvSlave):
         return npc_bank.BankModel(self.CL * s_m, self.CD * s_m, int(self.atmosphere_model), self.rho_ref,
                                   self.h_ref, self.scale_height, self.R_e, self.mu)
 
-    def _elapsed(self):
-        return self.time - self.start_time
+    def first_memory(self):
+        return npc.NpcMemory(u_c=math.cos(self.sigma_guess))
 
-    def _due(self):
-        if self._memory is None:
-            return True
-        return self._elapsed() >= self._memory.t_k + self.cycle_period * (1.0 - 1e-9)
-
-    def _cycle(self):
-        """(memory, Correction, cpu s) in force now (as NpcGuidance._cycle)."""
-        if not self._due():
-            return self._last
-        key = (self.time, self.h, self.v, self.gamma)
-        if self._pending is None or self._pending[0] != key:
-            memory = self._memory or npc.NpcMemory(u_c=math.cos(self.sigma_guess))
-            start = clock.process_time()
-            result = npc_bank.guidance_cycle(memory, self._elapsed(), key[1:], self._model(),
-                                             self._settings(), self.density_gain)
-            self._pending = (key, (*result, clock.process_time() - start))
-        return self._pending[1]
+    def run_cycle(self, memory, t, state):
+        return npc_bank.guidance_cycle(memory, t, state, self._model(), self._settings(), self.density_gain)
 
     def _saturated(self):
         lo, hi = self._settings().x_bounds
@@ -128,10 +113,7 @@ class NpcBankGuidance(AotvSlave):
         self._reset()
 
     def do_step(self, current_time, step_size):
-        if self._due():
-            pending = self._pending
-            self._last = pending[1] if pending is not None and pending[0][0] == self.time else self._cycle()
-            self._memory = self._last[0]
+        self.commit_cycle()
         if self._saturated():
             self.saturation_time += step_size
         error = lateral.plane_error(self.phi, self.psi)

@@ -1,9 +1,9 @@
 """NpcGuidance FMU: numerical predictor-corrector lift guidance for the seed-000 pass (FNPAG-like)."""
 
 import math
-import time as clock
 
-from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
+from aotv_cosim.fmu.guidance_slave import CycledGuidance
+from aotv_cosim.fmu.slave import POSITIVE
 from aotv_cosim.guidance import npc
 from aotv_cosim.physics import constants, point_mass
 from aotv_cosim.physics.planar import EXIT_000
@@ -11,7 +11,7 @@ from aotv_cosim.physics.planar import EXIT_000
 MEASURED = ("h", "v", "gamma")
 
 
-class NpcGuidance(AotvSlave):
+class NpcGuidance(CycledGuidance):
     """Every cycle_period s: predict to exit from the measured state, correct u_c by secant.
 
     `aotv_cosim.guidance.npc` holds the algorithm (equations and references). Between cycles the
@@ -79,12 +79,7 @@ class NpcGuidance(AotvSlave):
         out("cycle_cpu", "s", "CPU time of the last cycle (process time)", lambda: self._cycle()[2],
             depends_on=MEASURED)
         self.time = 0.0
-        self._reset()
-
-    def _reset(self):
-        self._memory = None  # committed NpcMemory (None: before the first cycle)
-        self._last = None    # (memory, Correction, cpu s) of the last committed cycle
-        self._pending = None  # (key, (memory, Correction, cpu s)) computed for the current inputs
+        self.reset_cycles()
 
     def _settings(self):
         return npc.NpcSettings(self.apogee_target, self.h_exit, self.tolerance, int(self.max_iter),
@@ -95,28 +90,11 @@ class NpcGuidance(AotvSlave):
         return npc.PredictorModel(self.rho_ref, self.h_ref, self.scale_height, self.CD0 / self.mass_per_area,
                                   self.R_e, int(self.gravity_model), self.g0, self.mu)
 
-    def _elapsed(self):
-        return self.time - self.start_time
+    def first_memory(self):
+        return npc.NpcMemory(scale=self.density_scale_prior, u_c=self.u_guess)
 
-    def _due(self):
-        """A cycle runs now: first call, or a cycle period has passed since the last one."""
-        if self._memory is None:
-            return True
-        return self._elapsed() >= self._memory.t_k + self.cycle_period * (1.0 - 1e-9)
-
-    def _cycle(self):
-        """(memory, Correction, cpu s) in force now: a cycle for the current inputs if one is due,
-        else the last committed one."""
-        if not self._due():
-            return self._last
-        key = (self.time, self.h, self.v, self.gamma)
-        if self._pending is None or self._pending[0] != key:
-            memory = self._memory or npc.NpcMemory(scale=self.density_scale_prior, u_c=self.u_guess)
-            start = clock.process_time()
-            result = npc.guidance_cycle(memory, self._elapsed(), key[1:], self._model(), self._settings(),
-                                        self.density_gain)
-            self._pending = (key, (*result, clock.process_time() - start))
-        return self._pending[1]
+    def run_cycle(self, memory, t, state):
+        return npc.guidance_cycle(memory, t, state, self._model(), self._settings(), self.density_gain)
 
     def current_command(self):
         memory, t = self._cycle()[0], self._elapsed()
@@ -128,15 +106,9 @@ class NpcGuidance(AotvSlave):
         """Before the first cycle, at the start time (the next read runs the cycle for the current
         inputs and parameters)."""
         self.time = self.start_time
-        self._reset()
+        self.reset_cycles()
 
     def do_step(self, current_time, step_size):
-        if self._due():
-            # Commit the cycle read at this time. A Gauss-Seidel master has already set the inputs
-            # to the vehicle's state at current_time + step_size; the cycle belongs to the state
-            # read at current_time, so it is recomputed only if no output was read then.
-            pending = self._pending
-            self._last = pending[1] if pending is not None and pending[0][0] == self.time else self._cycle()
-            self._memory = self._last[0]
+        self.commit_cycle()
         self.time = current_time + step_size
         return True

@@ -270,3 +270,60 @@ class NominalTrackingGuidance(AotvSlave):
             self.law()[0].advance(self._elapsed(), step_size, self._state())
         self.time = current_time + step_size
         return True
+
+
+class CycledGuidance(AotvSlave):
+    """Bookkeeping of a law that runs a guidance cycle every `cycle_period` s (the predictor-
+    correctors): a cycle computed for the inputs read at the current time (pending, recomputed
+    only when they change) and committed at the next step.
+
+    Subclasses declare `cycle_period` (s) and the inputs h, v, gamma, set `self.time` to the start
+    time when initialization starts and call `reset_cycles`, implement `first_memory()` (the
+    memory before the first cycle) and `run_cycle(memory, t, state)` -> (memory, correction),
+    and call `commit_cycle()` first in do_step. `_cycle()` is (memory, correction, cpu s) in
+    force now."""
+
+    def reset_cycles(self):
+        self._memory = None  # committed memory (None: before the first cycle)
+        self._last = None    # (memory, correction, cpu s) of the last committed cycle
+        self._pending = None  # (key, (memory, correction, cpu s)) computed for the current inputs
+
+    @abstractmethod
+    def first_memory(self):
+        """The law's memory before its first cycle."""
+
+    @abstractmethod
+    def run_cycle(self, memory, t, state):
+        """(memory, correction) of a cycle at elapsed time t (s) from the measured (h, v, gamma)."""
+
+    def _elapsed(self):
+        return self.time - self.start_time
+
+    def _due(self):
+        """A cycle runs now: first call, or a cycle period has passed since the last one."""
+        if self._memory is None:
+            return True
+        return self._elapsed() >= self._memory.t_k + self.cycle_period * (1.0 - 1e-9)
+
+    def _cycle(self):
+        """(memory, correction, cpu s) in force now: a cycle for the current inputs if one is due,
+        else the last committed one."""
+        if not self._due():
+            return self._last
+        key = (self.time, self.h, self.v, self.gamma)
+        if self._pending is None or self._pending[0] != key:
+            memory = self._memory or self.first_memory()
+            start = clock.process_time()
+            result = self.run_cycle(memory, self._elapsed(), key[1:])
+            self._pending = (key, (*result, clock.process_time() - start))
+        return self._pending[1]
+
+    def commit_cycle(self):
+        """At the start of a step: commit the cycle read at this time, if one is due. A
+        Gauss-Seidel master has already set the inputs to the state at the step's end; the cycle
+        belongs to the state read at its start, so it is recomputed only if no output was read
+        then."""
+        if self._due():
+            pending = self._pending
+            self._last = pending[1] if pending is not None and pending[0][0] == self.time else self._cycle()
+            self._memory = self._last[0]
