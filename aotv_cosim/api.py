@@ -213,17 +213,17 @@ def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.
 
 
 def _scenario(scenario, sets, start, stop, step):
-    """A loaded Scenario with the overrides applied (a path is loaded with them)."""
+    """A loaded Scenario with the overrides applied (a path is loaded with them, its FMUs built
+    when missing or stale)."""
     from aotv_cosim.engine.scenario import Scenario, check_times, load_scenario
-    from aotv_cosim.engine.system import load_system
+    from aotv_cosim.engine.system import with_values
+    from aotv_cosim.fmu.build import built_fmu
 
     if not isinstance(scenario, Scenario):
-        return load_scenario(scenario, sets, step, start, stop)
+        return load_scenario(scenario, sets, step, start, stop, fmus=built_fmu)
     changed = {}
     if sets:
-        system = scenario.system
-        values = {f"{c.name}.{k}": v for c in system.components.values() for k, v in c.parameters.items()}
-        changed["system"] = load_system(system.path, {**values, **sets}, overrides_file="set=")
+        changed["system"] = with_values(scenario.system, sets, "set=")
     if start is not None or stop is not None:
         kept = [e for e in scenario.expectations if e.at == "event"]
         changed.update(expectations=kept, skipped=scenario.skipped + [e for e in scenario.expectations

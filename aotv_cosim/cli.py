@@ -19,11 +19,9 @@ from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
 from aotv_cosim.engine import interrupts
 from aotv_cosim.errors import AotvError, InputError, SimulationError, ValidationFailed
 from aotv_cosim.paths import writable_file, writable_folder
+from aotv_cosim.status import Status
 
 DEFAULT_OUT = Path("results")
-ENDED_CLEANLY = ("completed", "terminated")
-"""Run statuses that are no failure: the stop time or a stop condition reached, or an FMU's
-request to terminate."""
 
 
 class _Context:
@@ -67,12 +65,13 @@ def _guard(function):
         sys.exit(3)
 
 
-def _exit_status(summary):
-    """0 if completed or ended at an FMU's terminate request, 128 + signal number if interrupted
-    (shell convention), else 1."""
-    if summary["status"] == "interrupted":
+def _exit_status(status: str) -> int:
+    """0 for a run, campaign or sweep `status` that completed or ended at an FMU's terminate
+    request, 128 + signal number if interrupted (shell convention), else 1."""
+    status = Status(status)
+    if status == Status.INTERRUPTED:
         return 128 + (interrupts.received() or signal.SIGINT)
-    return 0 if summary["status"] in ENDED_CLEANLY else 1
+    return 0 if status.ended_cleanly else 1
 
 
 @click.group(cls=OneLineGroup, context_settings={"help_option_names": ["-h", "--help"]})
@@ -149,9 +148,9 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
         console.print_summary(summary, out_dir)
         _print_outcome(summary)
         _print_fmu_traceback(summary)
-        if summary["status"] not in ENDED_CLEANLY:
-            sys.exit(_exit_status(summary))
-        if not all(r["passed"] for r in summary["expectations"]):
+        if not summary.status.ended_cleanly:
+            sys.exit(_exit_status(summary.status))
+        if not all(r["passed"] for r in summary.expectations):
             click.echo("error: expectations failed (see above)", err=True)
             sys.exit(1)
 
@@ -161,7 +160,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
 
 def _print_outcome(summary):
     """The run's class and exit-orbit figures in display units (km, m/s), when it is classified."""
-    outcome = summary.get("outcome")
+    outcome = summary.outcome
     if outcome:
         def km(name):
             value = float(outcome[name])
@@ -175,7 +174,7 @@ def _print_outcome(summary):
 def _print_fmu_traceback(summary):
     """The Python traceback an FMU logged when it failed (its file and line), with --debug; else
     a hint that it is there."""
-    trace = (summary.get("error_detail") or {}).get("traceback")
+    trace = (summary.error_detail or {}).get("traceback")
     if trace and _Context.debug:
         click.echo(trace, err=True)
     elif trace:
@@ -208,14 +207,14 @@ def check(paths, out, start, stop):
         failed, t0 = 0, time.perf_counter()
         for k, scenario in enumerate(candidates, 1):
             summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
-            ok = summary["status"] in ENDED_CLEANLY and all(r["passed"] for r in summary["expectations"])
+            ok = summary.status.ended_cleanly and all(r["passed"] for r in summary.expectations)
             failed += not ok
-            click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary['status']}, "
-                       f"{summary['wall_time_s']:.2f} s)")
+            click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary.status}, "
+                       f"{summary.wall_time_s:.2f} s)")
             console.print_failure(summary)
-            console.print_expectations(summary["expectations"])
-            if summary["status"] == "interrupted":
-                sys.exit(_exit_status(summary))
+            console.print_expectations(summary.expectations)
+            if summary.status == Status.INTERRUPTED:
+                sys.exit(_exit_status(summary.status))
         click.echo(f"{len(candidates) - failed} passed, {failed} failed in {time.perf_counter() - t0:.1f} s")
         sys.exit(1 if failed else 0)
 
@@ -346,10 +345,10 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
         click.echo(console_table(summary["three_sigma"], summary["units"], summary["outcomes"]))
         click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json,"
                    f" tables and plots in {out_dir / 'report.md'}")
-        if summary["status"] == "interrupted":
+        if summary["status"] == Status.INTERRUPTED:
             click.echo(f"  {summary['stop_reason']}: finished runs kept; --resume runs the others")
-            sys.exit(_exit_status(summary))
-        if not summary["statuses"].get("completed"):
+            sys.exit(_exit_status(summary["status"]))
+        if not summary["statuses"].get(Status.COMPLETED):
             first = summary["failed"][0] if summary["failed"] else {"run": "-", "error": "no run"}
             click.echo(f"error: {scenario}: runs: none of the {runs} runs completed (run {first['run']}: "
                        f"{' '.join(str(first['error']).split())}); see the error column of rows.csv", err=True)
@@ -428,9 +427,9 @@ def sweep(scenario, grids, workers, sets, out):
             click.echo("  ".join(cells))
         click.echo(f"{result['runs']} runs in {result['wall_time_s']:.1f} s; sweep.csv, sweep.parquet (SI) and "
                    f"sweep.png in {out_dir}")
-        if result["status"] == "interrupted":
+        if result["status"] == Status.INTERRUPTED:
             click.echo(f"  interrupted after {result['runs']} of {result['points']} points: those are kept")
-            sys.exit(_exit_status(result))
+            sys.exit(_exit_status(result["status"]))
 
     with interrupts.deferred():
         _guard(body)
@@ -576,8 +575,8 @@ def figures_seed002(run_dir, out, scenario):
             folder = target / "run"
             loaded = _with_builds(lambda: load_scenario(scenario or _shipped("entry_ideal_combined.json")))
             summary = run_scenario(loaded, folder, make_plots=False)
-            if summary["status"] != "completed":
-                raise SimulationError(f"the run failed: {summary['error']}", file=str(loaded.path),
+            if summary.status != Status.COMPLETED:
+                raise SimulationError(f"the run failed: {summary.error}", file=str(loaded.path),
                                       fix=f"see {folder / 'summary.json'}")
         for path in plot(folder, target):
             click.echo(path)

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from aotv_cosim.status import Status
+
 
 def progress_bar(scenario):
     from tqdm import tqdm
@@ -24,32 +26,35 @@ def progress_bar(scenario):
 def finish_bar(bar, summary, start):
     """Put the bar at 100 % of the simulated span when a stop condition ended the run, and keep a
     bar that says why a run stopped early (stop condition, failure, interruption) when it is
-    closed. A bar never shown (a run shorter than its delay) stays hidden."""
-    if summary["status"] in ("completed", "terminated") and summary["end_time"] is not None:
-        bar.total = bar.n = round(summary["end_time"] - start, 6)
-    if summary["stop_reason"] != "stop time reached":
-        bar.set_postfix_str(summary["stop_reason"], refresh=False)
+    closed. A bar never shown (a run shorter than its delay) stays hidden. `summary`: the run's
+    `engine.summary.RunSummary`."""
+    if Status(summary.status).ended_cleanly and summary.end_time is not None:
+        bar.total = bar.n = round(summary.end_time - start, 6)
+    if summary.stop_reason != "stop time reached":
+        bar.set_postfix_str(summary.stop_reason, refresh=False)
         bar.leave = True
 
 
 def print_summary(summary, out_dir):
-    click.echo(f"{Path(summary['scenario']).name}: {summary['status']} ({summary['stop_reason']}), "
-               f"{summary['steps']} steps in {summary['wall_time_s']:.3f} s")
+    """The run's status, its signals' final values and extrema and its expectations
+    (`summary`: its `engine.summary.RunSummary`)."""
+    click.echo(f"{Path(summary.scenario).name}: {summary.status} ({summary.stop_reason}), "
+               f"{summary.steps} steps in {summary.wall_time_s:.3f} s")
     print_failure(summary)
-    if summary["event"]:
-        click.echo(f"  event at t = {summary['event']['time']:.6g} s")
-    names = list(summary["final"])
+    if summary.event:
+        click.echo(f"  event at t = {summary.event['time']:.6g} s")
+    names = list(summary.final)
     if names:
-        units = summary.get("units", {})
+        units = summary.units
         width = max(len(n) for n in names)
         uwidth = max([len("unit")] + [len(units.get(n, "")) for n in names])
         click.echo(f"  {'signal':<{width}}  {'unit':<{uwidth}}  {'final':>14}  {'min':>14}  {'max':>14}")
         for n in names:
-            none = None if summary.get("types", {}).get(n) == "String" else float("nan")  # no extrema
-            lo = _cell(summary["min"].get(n, {}).get("value", none))
-            hi = _cell(summary["max"].get(n, {}).get("value", none))
-            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {_cell(summary['final'][n])}  {lo}  {hi}")
-    print_expectations(summary["expectations"])
+            none = None if (summary.types or {}).get(n) == "String" else float("nan")  # no extrema
+            lo = _cell(summary.min.get(n, {}).get("value", none))
+            hi = _cell(summary.max.get(n, {}).get("value", none))
+            click.echo(f"  {n:<{width}}  {units.get(n, ''):<{uwidth}}  {_cell(summary.final[n])}  {lo}  {hi}")
+    print_expectations(summary.expectations)
     click.echo(f"  results in {out_dir}")
 
 
@@ -73,19 +78,20 @@ def _shown(value) -> str:
 
 
 def print_failure(summary):
-    """The failure line, the failing FMU's last log message, and any warnings (on stderr)."""
-    if summary["error"]:
-        click.echo(f"  failure: {summary['error']}")
-        log = (summary["error_detail"] or {}).get("fmu_log") or []
-        if log and log[-1].split(": ", 1)[-1] not in summary["error"]:
+    """The failure line, the failing FMU's last log message, and any warnings (on stderr) of a
+    run's `engine.summary.RunSummary`."""
+    if summary.error:
+        click.echo(f"  failure: {summary.error}")
+        log = (summary.error_detail or {}).get("fmu_log") or []
+        if log and log[-1].split(": ", 1)[-1] not in summary.error:
             click.echo(f"  FMU log: {log[-1]}")
-    if summary["status"] == "interrupted":
-        click.echo(f"  interrupted at t = {summary['end_time']} s; partial results kept")
-    request = summary.get("terminate_request")
+    if summary.status == Status.INTERRUPTED:
+        click.echo(f"  interrupted at t = {summary.end_time} s; partial results kept")
+    request = summary.terminate_request
     if request:
         click.echo(f"  {request['component']} asked to end the simulation (fmi2Terminated); rows up to "
-                   f"t = {summary['end_time']} s kept")
-    for warning in summary.get("warnings", []):
+                   f"t = {summary.end_time} s kept")
+    for warning in summary.warnings:
         click.echo(f"warning: {warning}", err=True)
 
 

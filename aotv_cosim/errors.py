@@ -34,7 +34,17 @@ class BuildError(AotvError):
 
 
 class SimulationError(AotvError):
-    """A run failed midway: an FMU raised, returned an error status or produced NaN/inf."""
+    """A run failed midway: an FMU raised, returned an error status or produced NaN/inf.
+
+    `component` and `variable` name where it failed (None when no component is to blame, e.g. a
+    result file that could not be written) and `time` is the communication point, s."""
+
+    def __init__(self, cause, *, file=None, entry=None, fix=None, component: str = None,
+                 variable: str = None, time: float = None):
+        super().__init__(cause, file=file, entry=entry, fix=fix)
+        self.component = component
+        self.variable = variable
+        self.time = time
 
 
 class ValidationFailed(InputError):

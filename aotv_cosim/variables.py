@@ -59,6 +59,7 @@ def describe(target) -> pd.DataFrame:
     from aotv_cosim.engine.scenario import Scenario, load_scenario
     from aotv_cosim.engine.fmu_file import read_fmu, resolve_fmu
     from aotv_cosim.engine.system import System, load_system
+    from aotv_cosim.fmu.build import built_fmu
 
     if isinstance(target, Scenario):
         return _system_table(target.system)
@@ -67,15 +68,15 @@ def describe(target) -> pd.DataFrame:
     text = str(target)
     path = Path(text)
     if path.suffix in (".fmu", ".py") or (not path.suffix and not path.exists()):
-        fmu = resolve_fmu(text, Path.cwd(), file=text, entry="FMU")
+        fmu = resolve_fmu(text, Path.cwd(), built_fmu, file=text, entry="FMU")
         return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS),
                             dtype=object)  # an Integer's start stays an integer beside Real ones
     if not path.is_file():
         raise InputError("file not found", file=text,
                          fix="give an FMU name of this package, a .fmu, a .py FMU source, a wiring or a scenario file")
     if path.suffix != ".ssp" and "system" in _document(path):
-        return _system_table(load_scenario(path).system)
-    return _system_table(load_system(path))
+        return _system_table(load_scenario(path, fmus=built_fmu).system)
+    return _system_table(load_system(path, fmus=built_fmu))
 
 
 def _document(path) -> dict:

@@ -44,11 +44,12 @@ def _in_process_ms(scenario, repeats, batch, blas_threads):
     from threadpoolctl import threadpool_limits
 
     from aotv_cosim.campaigns.draws import draw
+    from aotv_cosim.campaigns.scenario_ref import ScenarioRef
     from aotv_cosim.campaigns.worker import Runner
 
     os.environ.update(dict.fromkeys(BLAS_THREAD_VARIABLES, str(blas_threads)))
     threadpool_limits(limits=blas_threads, user_api="blas")
-    runner = Runner(scenario)
+    runner = Runner(ScenarioRef.of(scenario))
     draws = [draw(runner.scenario.dispersions, 0, k) for k in range(batch + 1)]
     runner.run(0, draws[0])
     times = []

@@ -24,6 +24,7 @@ import statistics
 import tempfile
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 from aotv_cosim.engine.master import Master
 from aotv_cosim.engine.scenario import load_scenario
@@ -69,8 +70,8 @@ class _CpuTimedMaster(Master):
 def master_step(scenario):
     """({"cpu": us, "wall": us} per step, final values of the state outputs) of one master run."""
     last = []
-    master = _CpuTimedMaster(scenario, lambda times, rows: last.append(rows[-1]))
-    outcome = master.run()
+    master = _CpuTimedMaster(scenario)
+    outcome = master.run(SimpleNamespace(record=lambda times, rows: last.append(rows[-1])))
     assert outcome.status == "completed", outcome.error
     states = state_outputs(scenario)
     final = {s: last[-1][i] for s, i in master.index.items() if s in states}

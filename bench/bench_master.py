@@ -12,6 +12,7 @@ import argparse
 import statistics
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 from fmpy.fmi2 import FMU2Slave
 
@@ -27,7 +28,7 @@ SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "aotv_time_linear
 
 def master_us_per_step(scenario):
     """Microseconds per communication step of the master loop (initialization excluded)."""
-    outcome = Master(scenario, lambda times, rows: None).run()
+    outcome = Master(scenario).run(SimpleNamespace(record=lambda times, rows: None))
     assert outcome.status == "completed", outcome.error
     return (outcome.wall_time - outcome.init_time) / outcome.steps * 1e6
 

@@ -27,6 +27,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT)]
@@ -57,8 +58,8 @@ def measure(scenario, signal, at, repeat=1):
     for _ in range(repeat):
         last = {}
         cpu0 = time.process_time()
-        master = Master(scenario, lambda times, rows: last.update(row=rows[-1]))
-        outcome = master.run()
+        master = Master(scenario)
+        outcome = master.run(SimpleNamespace(record=lambda times, rows: last.update(row=rows[-1])))
         cpus.append(time.process_time() - cpu0)
         assert outcome.status == "completed", outcome.error
     value = outcome.event["values"][signal] if at == "event" else float(last["row"][master.index[signal]])
@@ -68,7 +69,7 @@ def measure(scenario, signal, at, repeat=1):
 def cpu_of(scenario):
     """CPU s of one whole run of `scenario` in this process."""
     cpu0 = time.process_time()
-    Master(scenario, lambda times, rows: None).run()
+    Master(scenario).run(SimpleNamespace(record=lambda times, rows: None))
     return time.process_time() - cpu0
 
 

@@ -30,6 +30,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
@@ -102,8 +103,8 @@ def overhead_us_per_step(scenario):
     cost and the part of it counted inside the calls come from `_timer_cost`. Counting the
     no-op's own call as timer cost makes the overhead err high, never low.
     """
-    master = _TimedMaster(scenario, lambda times, rows: None)
-    outcome = master.run()
+    master = _TimedMaster(scenario)
+    outcome = master.run(SimpleNamespace(record=lambda times, rows: None))
     assert outcome.status == "completed", outcome.error
     added, counted = _timer_cost()
     ns_inside, calls = master.inside
@@ -114,7 +115,7 @@ def overhead_us_per_step(scenario):
 
 
 def master_us_per_step(scenario):
-    outcome = Master(scenario, lambda times, rows: None).run()
+    outcome = Master(scenario).run(SimpleNamespace(record=lambda times, rows: None))
     assert outcome.status == "completed", outcome.error
     return outcome.loop_time / outcome.steps * 1e6
 
@@ -157,7 +158,7 @@ def target_libcosim(repeats):
         ssp = with_wrapper("stock", lambda: export_ssp(load_scenario(NOMINAL), Path(tmp) / "nominal.ssp"))
         for _ in range(repeats):
             cpu0 = time.process_time()
-            outcome = Master(scenario, lambda times, rows: None).run()
+            outcome = Master(scenario).run(SimpleNamespace(record=lambda times, rows: None))
             ours["whole-run CPU"].append((time.process_time() - cpu0) / outcome.steps * 1e6)
             ours["stepping wall"].append(outcome.loop_time / outcome.steps * 1e6)
             cpu0 = time.process_time()
@@ -200,12 +201,12 @@ def target_accuracy(repeats):
     for _ in range(repeats):
         last = []
         cpu0 = time.process_time()
-        outcome = Master(exit_s, lambda t, r: None).run()
+        outcome = Master(exit_s).run(SimpleNamespace(record=lambda t, r: None))
         cpus.append(time.process_time() - cpu0)
         walls.append(outcome.wall_time)
         event = outcome.event
-        m = Master(nominal, lambda t, r: last.append(r[-1]))
-        m.run()
+        m = Master(nominal)
+        m.run(SimpleNamespace(record=lambda t, r: last.append(r[-1])))
         final = {s: last[-1][i] for s, i in m.index.items()}
     wall = statistics.median(walls)
     dv = event["values"]["vehicle.v"] - ref_exit.event["vehicle.v"]
@@ -228,9 +229,10 @@ def cpu_ms_per_run(repeats, runs=20, scenario=CAMPAIGN):
     in this process on FMUs reused between runs as a worker does (the first run, which
     instantiates and solves, is left out)."""
     from aotv_cosim.campaigns.draws import draw
+    from aotv_cosim.campaigns.scenario_ref import ScenarioRef
     from aotv_cosim.campaigns.worker import Runner
 
-    runner = Runner(scenario)
+    runner = Runner(ScenarioRef.of(scenario))
     draws = [draw(runner.scenario.dispersions, 0, k) for k in range(runs)]
     runner.run(0, draws[0])
     times = []

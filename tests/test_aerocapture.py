@@ -156,10 +156,13 @@ def test_limits_are_counted_and_absent_from_a_set_without_them():
     from pathlib import Path
 
     from aotv_cosim.campaigns import limits
+    from aotv_cosim.engine.scenario import load_scenario
 
-    seed_set = sorted(Path("scenarios/benchmark_seed000").glob("*.json"))
-    assert limits.of_set(seed_set) == {} and limits.columns({}) == []  # the seed-000 scorecard is unchanged
-    stated = limits.of_set(sorted(Path("scenarios/benchmark_aerocapture/afe").glob("*.json")))
+    def loaded(folder):
+        return [(path, load_scenario(path)) for path in sorted(Path(folder).glob("*.json"))]
+
+    assert limits.of_set(loaded("scenarios/benchmark_seed000")) == {} and limits.columns({}) == []  # the seed-000 scorecard is unchanged
+    stated = limits.of_set(loaded("scenarios/benchmark_aerocapture/afe"))
     assert stated == {"load_factor": 5.0, "heat_rate": 1.0e6, "dynamic_pressure": 20000.0}
     rows = [{"status": "completed", "outcome.peak_load_factor": g, "outcome.peak_heat_rate": 5e5,
              "max.vehicle.qbar": q, "outcome.saturation_time": 10.0, "exit.time": 300.0,

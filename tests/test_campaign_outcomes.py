@@ -8,6 +8,7 @@ import pytest
 
 from aotv_cosim.campaigns import run_campaign
 from aotv_cosim.mission.outcome_rows import UNITS, counts
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import Runner
 from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
@@ -19,7 +20,7 @@ RHO = 1.752
 
 @pytest.fixture(scope="module")
 def runner():
-    return Runner(CAMPAIGN)
+    return Runner(ScenarioRef.of(CAMPAIGN))
 
 
 @pytest.mark.parametrize("values, outcome, reason", [

@@ -4,6 +4,7 @@ the messages of rejected names."""
 import io
 import json
 import re
+from types import SimpleNamespace
 
 import pyarrow.parquet as pq
 import pytest
@@ -115,7 +116,8 @@ def test_bar_ends_at_100_percent_and_says_why():
     bar = tqdm(total=400, file=out, leave=False, delay=0)
     bar.n = 287.5
     bar.update(0)
-    summary = {"status": "completed", "end_time": 290.25, "stop_reason": "vehicle.h crossed 90000 up at t = 290.25 s"}
+    summary = SimpleNamespace(status="completed", end_time=290.25,
+                              stop_reason="vehicle.h crossed 90000 up at t = 290.25 s")
     finish_bar(bar, summary, 0.0)
     bar.close()
     last = out.getvalue().split("\r")[-1]
@@ -150,7 +152,7 @@ def test_comparison_files_are_si():
                "vehicle.dv_circ", "guidance.u"]
     rows = np.array([[90000.0, 8200.0, -0.02, 2.0e5, 0.0, 1.0e6, 300.0, 0.7],
                      [79000.0, 8170.0, 0.0, 4.5e5, 50.0, 1.1e6, 290.0, -0.1]])
-    summary = {"event": None, "final": dict(zip(columns, rows[-1]))}
+    summary = SimpleNamespace(event=None, final=dict(zip(columns, rows[-1])))
     row = summarize("law", "Fmu", summary, columns, rows, (90000.0, 8150.0, 0.0144))
     assert row["qdot_max_W_m2"] == 4.5e5 and row["h_min_m"] == 79000.0 and row["apogee_alt_m"] == 1.1e6
     row["solve_time_s"] = 0.0

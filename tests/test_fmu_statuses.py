@@ -60,6 +60,7 @@ def test_an_fmu_logs_through_fmpy_after_this_package_freed_its_instances(tmp_pat
 
     script = textwrap.dedent(f"""
         import gc
+        from types import SimpleNamespace
         from fmpy import extract, read_model_description
         from fmpy.fmi1 import FMICallException
         from fmpy.fmi2 import FMU2Slave
@@ -67,7 +68,7 @@ def test_an_fmu_logs_through_fmpy_after_this_package_freed_its_instances(tmp_pat
         from aotv_cosim.engine.scenario import load_scenario
         from aotv_cosim.fmu import build
         for _ in range(3):
-            Master(load_scenario({str(NOMINAL)!r}), lambda t, r: None).run()
+            Master(load_scenario({str(NOMINAL)!r})).run(SimpleNamespace(record=lambda t, r: None))
         gc.collect()
         path = str(build.ensure_fmu("PitchVehicle"))
         md = read_model_description(path)

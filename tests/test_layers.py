@@ -9,10 +9,11 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "aotv_cosim"
 
-LAYERS = ("errors", "paths", "physics", "guidance", "fmu", "laws", "mission", "engine", "ssp", "variables",
+LAYERS = ("errors", "paths", "status", "physics", "guidance", "fmu", "laws", "mission", "engine", "ssp", "variables",
           "studies", "campaigns", "api", "cli_usage", "cli_console", "cli", "__main__")
 """Bottom to top: each unit (a subpackage or a top-level module) may import its own modules and
 the units before it. errors and paths: what every layer reports and checks input files with;
+status: how a run ended;
 physics and guidance: the equations and laws (FMUs bundle them); fmu: the FMU side (adapter
 bases, build); mission: what a run achieved (capture class, apogee, correction dv); engine:
 loading systems and scenarios (wiring JSON or SSP) and running them; ssp: export and third-party

@@ -17,7 +17,7 @@ from conftest import NOMINAL, write_json
 @pytest.fixture(scope="module")
 def nominal(tmp_path_factory):
     out = tmp_path_factory.mktemp("nominal")
-    return run_scenario(load_scenario(NOMINAL), out, make_plots=False), out
+    return run_scenario(load_scenario(NOMINAL), out, make_plots=False).as_json(), out
 
 
 def test_gauss_seidel_order_follows_feedthrough():
@@ -51,7 +51,7 @@ def test_measured_drag_feeds_a_consumer_from_the_current_density(tmp_path, wirin
     assert sweep.order.index("atmosphere") < sweep.order.index("accelerometer")
     assert sweep.fresh["accelerometer"] == ["command"]
     assert sweep.delayed["vehicle"] == ["rho", "u_lift"]  # the parasite drag does not depend on u_lift
-    summary = run_scenario(scenario, tmp_path / "out", make_plots=False)
+    summary = run_scenario(scenario, tmp_path / "out", make_plots=False).as_json()
     assert summary["status"] == "completed"
     lines = (tmp_path / "out" / "timeseries.csv").read_text().splitlines()
     columns = lines[0].split(",")
@@ -100,7 +100,7 @@ def test_coupling_error_converges_first_order_to_the_reference(tmp_path):
     errors = []
     for step in (0.4, 0.2, 0.1):
         s = load_scenario(NOMINAL, step=step)
-        summary = run_scenario(s, tmp_path / str(step), make_plots=False)
+        summary = run_scenario(s, tmp_path / str(step), make_plots=False).as_json()
         errors.append(summary["final"]["vehicle.h"] - ref.final["vehicle.h"])
     orders = [math.log2(errors[k] / errors[k + 1]) for k in range(2)]
     assert all(abs(p - 1.0) < 0.05 for p in orders), (errors, orders)
@@ -110,7 +110,7 @@ def test_coupling_error_converges_first_order_to_the_reference(tmp_path):
 
 def test_stop_condition_locates_atmospheric_exit(tmp_path):
     s = load_scenario(NOMINAL.with_name("aotv_time_linear_exit.json"))
-    summary = run_scenario(s, tmp_path, make_plots=False)
+    summary = run_scenario(s, tmp_path, make_plots=False).as_json()
     ref = reference_run(s)
     assert summary["status"] == "completed" and "crossed 90000 up" in summary["stop_reason"]
     assert summary["event"]["values"]["vehicle.h"] == pytest.approx(90000.0, abs=1e-6)
@@ -122,7 +122,7 @@ def test_stop_condition_locates_atmospheric_exit(tmp_path):
 def test_jacobi_runs_and_stays_close(tmp_path, scenario_doc):
     scenario_doc["algorithm"] = "jacobi"
     summary = run_scenario(load_scenario(write_json(tmp_path / "j.json", scenario_doc)), tmp_path / "j",
-                           make_plots=False)
+                           make_plots=False).as_json()
     assert summary["status"] == "completed"
     # Jacobi delays every connection by one step (u, rho): a further first-order error of the same size.
     assert summary["final"]["vehicle.h"] == pytest.approx(90034.0, abs=25.0)
@@ -139,7 +139,7 @@ def test_set_changes_the_entry_state(tmp_path):
     from aotv_cosim.guidance.time_linear import approximate_law_coefficients
 
     s = load_scenario(NOMINAL, sets={"vehicle.h0": 92000.0})
-    summary = run_scenario(s, tmp_path, make_plots=False)
+    summary = run_scenario(s, tmp_path, make_plots=False).as_json()
     a, b = approximate_law_coefficients(8200.0, -0.02, 92000.0, 300.0)
     assert summary["final"]["guidance.a"] == pytest.approx(a, rel=1e-12)
     assert summary["final"]["guidance.b"] == pytest.approx(b, rel=1e-12)
@@ -156,7 +156,7 @@ def test_summary_is_complete(nominal):
 
 
 def _final(scenario, tmp_path, tag):
-    return run_scenario(scenario, tmp_path / tag, make_plots=False)
+    return run_scenario(scenario, tmp_path / tag, make_plots=False).as_json()
 
 
 def test_extrapolated_inputs_make_the_coupling_error_second_order(tmp_path):
@@ -188,7 +188,7 @@ def test_step_object_in_the_scenario_file(tmp_path, scenario_doc):
 
 def test_accurate_exit_scenario_locates_the_exit_within_1_m_and_1_mm_per_s(tmp_path):
     s = load_scenario(NOMINAL.with_name("aotv_time_linear_exit_accurate.json"))
-    summary = run_scenario(s, tmp_path, make_plots=False)
+    summary = run_scenario(s, tmp_path, make_plots=False).as_json()
     ref = reference_run(s)
     event = summary["event"]
     assert event["values"]["vehicle.v"] == pytest.approx(ref.event["vehicle.v"], abs=1e-3)

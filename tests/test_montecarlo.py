@@ -5,6 +5,7 @@ import csv
 import json
 import textwrap
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -13,6 +14,7 @@ import pytest
 from aotv_cosim.errors import InputError
 from aotv_cosim.campaigns import run_campaign
 from aotv_cosim.campaigns.draws import draw
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.report import ellipse_3sigma
 from aotv_cosim.engine.scenario import Dispersion, load_scenario
 from conftest import SCENARIOS, write_json
@@ -70,7 +72,7 @@ def test_dask_cluster_without_workers_fails_instead_of_waiting():
     from aotv_cosim.errors import SimulationError
 
     with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
-        rows = backends.dask(str(CAMPAIGN), None, [[(0, {})]], client, ["run"], patience=1.0)
+        rows = backends.dask(ScenarioRef.of(CAMPAIGN), [[(0, {})]], client, ["run"], patience=1.0)
         with pytest.raises(SimulationError, match="no worker for 1 s with 1 batch"):
             list(rows)
 
@@ -153,7 +155,7 @@ def test_fmus_run_in_this_process_do_not_shadow_the_package_for_spawned_workers(
 
     from aotv_cosim.engine.master import Master
 
-    Master(load_scenario(CAMPAIGN), lambda times, rows: None).run()
+    Master(load_scenario(CAMPAIGN)).run(SimpleNamespace(record=lambda times, rows: None))
     first = next(p for p in sys.path if (Path(p or ".") / "aotv_cosim" / "__init__.py").is_file())
     assert (Path(first or ".") / "aotv_cosim" / "campaigns").is_dir(), sys.path[:4]
 

@@ -170,7 +170,7 @@ def test_fmu_flies_the_cycle_it_reported_at_the_cycle_time(tmp_path):
     and the cycle must not be recomputed from those."""
     scenario = load_scenario(SCENARIOS / "aotv_npc_density1_2.json")
     scenario.stop, scenario.stop_conditions = 8.0, []
-    summary = run_scenario(scenario, tmp_path, make_plots=False)
+    summary = run_scenario(scenario, tmp_path, make_plots=False).as_json()
     assert summary["status"] == "completed", summary.get("error")
     rows = _series(tmp_path)
     by_time = {round(r["time"], 6): r for r in rows}
@@ -190,7 +190,7 @@ def test_fmu_flies_the_cycle_it_reported_at_the_cycle_time(tmp_path):
 def test_fmu_estimates_the_density_scale_it_is_not_told(factor, tmp_path):
     scenario = load_scenario(SCENARIOS / "aotv_npc_nominal.json", {"atmosphere.density_factor": factor})
     scenario.stop, scenario.stop_conditions = 40.0, []
-    summary = run_scenario(scenario, tmp_path, make_plots=False)
+    summary = run_scenario(scenario, tmp_path, make_plots=False).as_json()
     assert summary["final"]["guidance.density_scale"] == pytest.approx(factor, rel=3e-3)
 
 
@@ -223,9 +223,10 @@ def test_campaign_runs_on_reset_fmus_repeat_and_classify():
     """A Monte Carlo worker resets the FMUs between runs: run 2 (x1.2 after an x0.8 run) repeats
     run 0 exactly (cycle CPU aside), and the rows classify as captures."""
     from aotv_cosim.mission.outcome import CaptureCriteria, classify, record_from_row
+    from aotv_cosim.campaigns.scenario_ref import ScenarioRef
     from aotv_cosim.campaigns.worker import Runner
 
-    runner = Runner(SCENARIOS / "aotv_npc_nominal.json")
+    runner = Runner(ScenarioRef.of(SCENARIOS / "aotv_npc_nominal.json"))
     rows = [runner.run(k, {"atmosphere.density_factor": f}) for k, f in enumerate((1.2, 0.8, 1.2))]
     differing = {k for k in rows[0] if rows[0][k] != rows[2][k] and "cycle_cpu" not in k}
     assert differing == {"run"}

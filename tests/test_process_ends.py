@@ -9,6 +9,7 @@ import sys
 import pytest
 
 from aotv_cosim.campaigns import backends
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import run_one
 from conftest import NOMINAL, ROOT, WIRING, write_json
 
@@ -46,7 +47,7 @@ def test_workers_exit_with_instances_open_without_an_abort(tmp_path, capfd):
     codes = []
     for _ in range(50):
         pool = backends._pool(2)
-        tasks = [pool.submit(run_one, scenario, None, k, {}) for k in range(2)]
+        tasks = [pool.submit(run_one, ScenarioRef.of(scenario), k, {}) for k in range(2)]
         assert all(task.result()["status"] == "completed" for task in tasks)
         assert len(pool.workers) == 2
         pool.shutdown()

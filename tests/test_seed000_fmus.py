@@ -31,7 +31,7 @@ def test_every_seed000_regression_is_collected():
 
 @pytest.mark.parametrize("name", CASES)
 def test_seed000_scenario(name, tmp_path):
-    summary = run_scenario(load_scenario(SCENARIOS / f"{name}.json"), tmp_path, make_plots=False)
+    summary = run_scenario(load_scenario(SCENARIOS / f"{name}.json"), tmp_path, make_plots=False).as_json()
     assert summary["status"] == "completed", summary.get("error")
     checks = summary["expectations"]
     assert checks, "scenario has no expectations"
@@ -60,7 +60,7 @@ def test_feedback_laws_match_the_monolithic_reference(name, max_dh, tmp_path):
     LQR 0.3 m (feedback damps the ZOH error), predictive adaptive 6.4 m (open loop, as the other
     time-linear scenarios)."""
     scenario = load_scenario(SCENARIOS / f"{name}.json")
-    cosim = run_scenario(scenario, tmp_path, make_plots=False)["final"]
+    cosim = run_scenario(scenario, tmp_path, make_plots=False).as_json()["final"]
     ref = reference_run(scenario).final
     assert abs(cosim["vehicle.h"] - ref["vehicle.h"]) < max_dh
     assert abs(cosim["vehicle.v"] - ref["vehicle.v"]) < 0.01
@@ -77,7 +77,7 @@ def test_seeded_density_noise_gives_identical_runs(tmp_path):
     def series(folder, seed):
         scenario = load_scenario(path, {**sets, "atmosphere.noise_seed": seed})
         scenario.stop = 60.0
-        summary = run_scenario(scenario, tmp_path / folder, make_plots=False)
+        summary = run_scenario(scenario, tmp_path / folder, make_plots=False).as_json()
         assert summary["status"] == "completed"
         lines = (tmp_path / folder / "timeseries.csv").read_text().splitlines()
         keep = [k for k, name in enumerate(lines[0].split(",")) if name != "guidance.solve_time"]

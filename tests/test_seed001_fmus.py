@@ -22,7 +22,7 @@ CASES = ["plane_change_mae_open_loop", "plane_change_mae_guided", "plane_change_
 def summaries(tmp_path_factory):
     """Each scenario run once: {name: summary}."""
     return {name: run_scenario(load_scenario(SCENARIOS / f"{name}.json"), tmp_path_factory.mktemp(name),
-                               make_plots=False) for name in CASES}
+                               make_plots=False).as_json() for name in CASES}
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -53,7 +53,7 @@ def test_reduced_heading_model_replays_the_optimum_to_20_degrees(tmp_path):
     20.1530 deg; V_f 6734.21 m/s as in the full model."""
     scenario = load_scenario(SCENARIOS / "plane_change_optimal.json",
                              sets={"vehicle.heading_model": 1})
-    values = run_scenario(scenario, tmp_path, make_plots=False)["event"]["values"]
+    values = run_scenario(scenario, tmp_path, make_plots=False).as_json()["event"]["values"]
     assert math.degrees(values["vehicle.psi"]) == pytest.approx(20.000, abs=0.01)
     assert math.degrees(values["vehicle.inclination"]) == pytest.approx(20.145, abs=0.01)
     assert values["vehicle.v"] == pytest.approx(6734.6, abs=2.0)

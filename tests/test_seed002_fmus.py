@@ -22,7 +22,7 @@ ALL = sorted(p.stem for p in SCENARIOS.glob("entry_*.json"))
 
 
 def _run(name, tmp_path):
-    summary = run_scenario(load_scenario(SCENARIOS / f"{name}.json"), tmp_path, make_plots=False)
+    summary = run_scenario(load_scenario(SCENARIOS / f"{name}.json"), tmp_path, make_plots=False).as_json()
     assert summary["status"] == "completed", summary.get("error")
     failed = [c for c in summary["expectations"] if not c["passed"]]
     assert summary["expectations"] and not failed, failed

@@ -20,7 +20,7 @@ X0 = (math.radians(5.0), 0.0)
 def run(tmp_path, name):
     """Run scenarios/shuttle_<name>.json; its summary."""
     summary = run_scenario(load_scenario(SCENARIOS / f"shuttle_{name}.json"),
-                           tmp_path / name, make_plots=False)
+                           tmp_path / name, make_plots=False).as_json()
     assert summary["status"] == "completed"
     return summary
 

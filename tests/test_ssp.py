@@ -14,6 +14,7 @@ from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.ssp.export import export_ssp
 from aotv_cosim.engine.ssp_names import NS, schema_dir
 from aotv_cosim.engine.system import load_system
+from aotv_cosim.fmu.build import built_fmu
 from conftest import NOMINAL, WIRING, write_json
 from test_cli import error_lines, invoke
 
@@ -90,7 +91,7 @@ def test_export_is_byte_identical(scenario, ssp, tmp_path):
 
 
 def test_imported_system_equals_the_wiring(ssp):
-    wired, imported = load_system(WIRING), load_system(ssp)
+    wired, imported = load_system(WIRING, fmus=built_fmu), load_system(ssp, fmus=built_fmu)
     assert imported.connections == wired.connections
     for name, comp in wired.components.items():
         assert imported.components[name].parameters == comp.parameters
@@ -101,7 +102,7 @@ def test_run_ssp_equals_run_scenario_and_records_guids(ssp, tmp_path):
     code, text = invoke("run", ssp, "--out", tmp_path / "ssp", "--no-plots")
     assert code == 0, text
     from_ssp = json.loads((tmp_path / "ssp" / "summary.json").read_text())
-    from_json = run_scenario(load_scenario(NOMINAL), tmp_path / "json", make_plots=False)
+    from_json = run_scenario(load_scenario(NOMINAL), tmp_path / "json", make_plots=False).as_json()
     for signal, value in from_json["final"].items():
         assert from_ssp["final"][signal] == value, signal
     assert from_ssp["steps"] == 3000 and from_ssp["algorithm"] == "gauss-seidel"
@@ -181,13 +182,13 @@ def test_default_experiment_stops_where_the_system_gets(tmp_path):
     the command line reports that stop."""
     exit_file = NOMINAL.with_name("aotv_time_linear_exit.json")
     exit_scenario = load_scenario(exit_file)
-    event = run_scenario(exit_scenario, tmp_path / "run", make_plots=False)["event"]["time"]
+    event = run_scenario(exit_scenario, tmp_path / "run", make_plots=False).as_json()["event"]["time"]
     archive = export_ssp(exit_scenario, tmp_path / "exit.ssp")
     stop = float(xml_member(archive, "SystemStructure.ssd").find("ssd:DefaultExperiment", NS).get("stopTime"))
     assert stop < exit_scenario.stop
     assert event - exit_scenario.step < stop <= event
     assert round(stop / exit_scenario.step, 9) == round(stop / exit_scenario.step)
-    summary = run_scenario(load_scenario(archive), tmp_path / "ssp", make_plots=False)
+    summary = run_scenario(load_scenario(archive), tmp_path / "ssp", make_plots=False).as_json()
     assert summary["status"] == "completed" and summary["end_time"] == pytest.approx(stop)
     code, text = invoke("export-ssp", exit_file, "-o", tmp_path / "cli.ssp")
     assert code == 0, text

@@ -7,6 +7,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -31,8 +32,8 @@ def adaptive(tmp_path, source, step, name="adaptive.json", **changes):
 def run(scenario):
     """(outcome, times, rows, index of each signal in a row)."""
     times, rows = [], []
-    master = Master(scenario, lambda t, r: (times.extend(t), rows.extend(r)))
-    outcome = master.run()
+    master = Master(scenario)
+    outcome = master.run(SimpleNamespace(record=lambda t, r: (times.extend(t), rows.extend(r))))
     return outcome, times, rows, master.index
 
 
@@ -117,7 +118,7 @@ def test_an_interrupted_attempt_keeps_its_rows(tmp_path):
             raise KeyboardInterrupt
 
     scenario = adaptive(tmp_path, NOMINAL, {"size": 0.5, "tolerance": {"vehicle.h": 1.0}})
-    outcome = Master(scenario, lambda t, r: (times.extend(t), rows.extend(r)), interrupt).run()
+    outcome = Master(scenario, interrupt).run(SimpleNamespace(record=lambda t, r: (times.extend(t), rows.extend(r))))
     assert outcome.status == "interrupted" and outcome.steps == len(times) - 1
     assert times[0] == 0.0 and times[-1] > 100.0
 

@@ -118,7 +118,7 @@ def master_final(scenario, out):
     So are the guidance solvers' `solve_time` outputs: wall-clock measurements, not simulation
     results.
     """
-    summary = run_scenario(scenario, out, make_plots=False)
+    summary = run_scenario(scenario, out, make_plots=False).as_json()
     assert summary["status"] == "completed", summary["error"]
     states = [f"{c.name}.{o}" for c in scenario.system.components.values()
               for o, deps in c.fmu.feedthrough.items() if not deps and o != "solve_time"]

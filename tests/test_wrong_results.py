@@ -10,6 +10,7 @@ import pytest
 from aotv_cosim.errors import InputError
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.engine.system import load_system
+from aotv_cosim.fmu.build import built_fmu
 from conftest import write_json
 from test_faults import _faulty_scenario, _run
 from test_input_edges import SSD, export_nominal, one_line, rewritten, ssd_text
@@ -37,7 +38,7 @@ def _h0_in_km(ssp, out, define=True):
 
 def test_ssv_values_in_a_defined_unit_are_converted(nominal_ssp, tmp_path):
     """h0 = 80 km (km defined as 1000 m in the SSV's Units) sets the FMU's h0 (m) to 80000."""
-    system = load_system(_h0_in_km(nominal_ssp, tmp_path / "km.ssp"))
+    system = load_system(_h0_in_km(nominal_ssp, tmp_path / "km.ssp"), fmus=built_fmu)
     assert system.components["vehicle"].parameters["h0"] == pytest.approx(80000.0)
 
 

@@ -18,7 +18,9 @@ from aotv_cosim.engine import watchdog
 from aotv_cosim.errors import SimulationError
 from aotv_cosim.campaigns.orphans import terminate, worker_started
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS, WorkerLost, WorkerPool
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import release, run_batch, run_one
+from aotv_cosim.status import Status
 
 NO_WORKER_PATIENCE = 60.0
 """Seconds a Dask campaign waits with tasks pending and no worker in the cluster before it fails
@@ -31,7 +33,7 @@ def failed_row(columns, run, values, error) -> dict:
     row = dict.fromkeys(columns, math.nan)
     row.update({f"dispersed.{k}": v for k, v in values.items()})
     cause = str(error) if isinstance(error, WorkerLost) else f"{type(error).__name__}: {error}"
-    row.update(run=run, status="failed", error=cause)
+    row.update(run=run, status=Status.FAILED, error=cause)
     if "outcome" in row:
         row.update({"outcome": "failed", "outcome.reason": cause})
     return row
@@ -78,18 +80,18 @@ def _started(parent_pid, blas_threads):
     threadpool_limits(limits=blas_threads, user_api="blas")
 
 
-def local(scenario_path, sets, batches, workers, columns, times=None, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT,
+def local(ref: ScenarioRef, batches, workers, columns, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT,
           max_rss=DEFAULT_MAX_RSS, keep_series=False):
-    """Yield row lists from `workers` replaceable processes (times: (start, stop) overrides or None;
-    step_limit: s per step; max_rss: bytes per worker, None for no limit; see `pool`; keep_series:
-    each row carries its run's decimated signals).
+    """Yield row lists of the scenario `ref` from `workers` replaceable processes (step_limit: s
+    per step; max_rss: bytes per worker, None for no limit; see `pool`; keep_series: each row
+    carries its run's decimated signals).
 
     On a SIGINT/SIGTERM (see `interrupts`) it raises Interrupted within `pool.POLL` s and kills
     the workers: the runs in flight are not recorded, and a resumed campaign runs them again.
     """
     pool = _pool(workers, step_limit, max_rss)
     try:
-        tasks = {pool.submit(run_one, scenario_path, sets, run, values, times, step_limit, keep_series): (run, values)
+        tasks = {pool.submit(run_one, ref, run, values, step_limit, keep_series): (run, values)
                  for batch in batches for run, values in batch}
         for task in pool.completed(tasks):
             try:
@@ -126,9 +128,8 @@ def _completed(client, futures, patience):
                                   "(see their logs), or run on local workers")
 
 
-def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO_WORKER_PATIENCE,
-         keep_series=False):
-    """Yield row lists from the Dask scheduler at `address` (a Client object is accepted too);
+def dask(ref: ScenarioRef, batches, address, columns, patience=NO_WORKER_PATIENCE, keep_series=False):
+    """Yield row lists of the scenario `ref` from the Dask scheduler at `address` (a Client object is accepted too);
     fail after `patience` s without a worker (`_completed`). Dask runs tasks in worker threads,
     where the step watchdog cannot interrupt a step (`engine.watchdog`); a crashed worker is
     restarted by its nanny and its runs retried here."""
@@ -138,7 +139,7 @@ def dask(scenario_path, sets, batches, address, columns, times=None, patience=NO
     try:
         queue = list(batches)
         while queue:
-            futures = {client.submit(run_batch, scenario_path, sets, b, times, keep_series, pure=False): tuple(b)
+            futures = {client.submit(run_batch, ref, b, keep_series, pure=False): tuple(b)
                        for b in queue}
             queue = []
             for future in _completed(client, futures, patience):

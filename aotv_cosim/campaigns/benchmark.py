@@ -21,13 +21,16 @@ from pathlib import Path
 import numpy as np
 
 from aotv_cosim.campaigns import limits as limits_of_runs
-from aotv_cosim.campaigns.campaign import run_campaign
+from aotv_cosim.campaigns.campaign import CampaignOptions, fly
+from aotv_cosim.campaigns.report import completed_values
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.mission.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.errors import InputError
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.status import Status
 
 PERCENT = (0.135, 50.0, 99.865)
 
@@ -53,9 +56,9 @@ def set_path(set_dir) -> Path:
 
 
 def scenarios_of(set_dir) -> list:
-    """The set's scenario files, sorted, checked before any run: each classifies its runs and all
-    give the same campaign columns. A set is a folder of scenarios or one scenario file. InputError
-    for an empty or unusable set."""
+    """The set's scenarios [(file, loaded Scenario)], sorted by file, checked before any run: each
+    classifies its runs and all give the same campaign columns. A set is a folder of scenarios or
+    one scenario file. InputError for an empty or unusable set."""
     folder = set_path(set_dir)
     if folder.is_file() and _is_wiring(folder):
         raise InputError("a wiring, not a scenario set", file=folder,
@@ -70,8 +73,9 @@ def scenarios_of(set_dir) -> list:
         paths = sorted(folder.glob("*.json"))
     if not paths:
         raise InputError("the folder holds no scenario file", file=folder, fix="put one *.json scenario per law in it")
-    _check_alike([(path, load_scenario(path)) for path in paths])
-    return paths
+    loaded = [(path, load_scenario(path)) for path in paths]
+    _check_alike(loaded)
+    return loaded
 
 
 def _check_alike(loaded) -> None:
@@ -87,16 +91,15 @@ def _check_alike(loaded) -> None:
                              entry="record", fix="record the same signals and disperse the same values in every law")
 
 
-def law_scenarios(set_dir, law_files, work_dir) -> dict:
-    """{law: scenario path}: the set's laws (file names), then each of `law_files` flown through
-    the set's dispersions. A law file is a wiring (the set's first scenario is flown with its
-    "system" replaced by it: written to work_dir/laws/<law>.json) or a scenario whose dispersions
-    and columns are the set's. InputError for a clash of names or a law that does not fit."""
-    paths = scenarios_of(set_dir)
-    laws = {path.stem: path for path in paths}
+def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
+    """{law: (scenario path, loaded Scenario)}: the laws of the set's `scenarios_of` (file names),
+    then each of `law_files` flown through the set's dispersions. A law file is a wiring (the
+    set's first scenario is flown with its "system" replaced by it: written to
+    work_dir/laws/<law>.json) or a scenario whose dispersions and columns are the set's.
+    InputError for a clash of names or a law that does not fit."""
+    laws = {path.stem: (path, scenario) for path, scenario in set_scenarios}
     set_names = set(laws)
-    template = paths[0]
-    reference = load_scenario(template)
+    template, reference = set_scenarios[0]
     for law_file in map(Path, law_files):
         law = law_file.stem
         if law in laws:  # a law is named by its file name: two --law files may clash too
@@ -114,7 +117,7 @@ def law_scenarios(set_dir, law_files, work_dir) -> dict:
                              entry="dispersions", fix=f"use the dispersion_set of {template.name}, or give "
                                                       "the law's wiring instead of a scenario")
         _check_alike([(template, reference), (law_file, scenario)])
-        laws[law] = scenario_path
+        laws[law] = (scenario_path, scenario)
     return laws
 
 
@@ -146,13 +149,13 @@ def _flown_with(template: Path, wiring: Path, folder: Path) -> Path:
     return path.resolve()
 
 
-def campaign_key(scenario_path, runs: int, seed: int) -> str:
+def campaign_key(scenario_path, scenario, runs: int, seed: int) -> str:
     """SHA-256 of what a law's campaign rows depend on: the scenario's settings (not its file
     paths or description), each component's FMU GUID, parameter values and the connections,
-    the dispersions, the seed and N. Equal keys give equal rows, so stored rows are reused."""
+    the dispersions, the seed and N (`scenario`: the file `scenario_path` loaded). Equal keys give
+    equal rows, so stored rows are reused."""
     from aotv_cosim.engine.documents import strict_json
 
-    scenario = load_scenario(scenario_path)
     doc = strict_json(Path(scenario_path).read_text(encoding="utf-8"))
     settings = {k: v for k, v in doc.items() if k not in ("$schema", "description", "system", "dispersion_set")}
     system = scenario.system
@@ -209,10 +212,8 @@ def score(law, rows, cpu_per_run) -> dict:
     """The scorecard row of one law's campaign rows (None: a figure the runs do not give)."""
     counts = {o: sum(r["outcome"] == o for r in rows) for o in OUTCOMES}
     card = {"law": law, "runs": len(rows), "capture_rate": 100.0 * counts["captured"] / len(rows), **counts}
-    done = [r for r in rows if r["status"] == "completed"]
     for column, _, _, percents in METRICS:
-        x = np.array([float(r[column]) for r in done], dtype=float)
-        x = x[np.isfinite(x)]
+        x = completed_values(rows, column)
         for p in percents:
             card[f"{column.split('.', 1)[1]}_p{p:g}"] = float(np.percentile(x, p)) if len(x) else None
     card["cpu_per_run"] = cpu_per_run
@@ -231,12 +232,13 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
     `reuse` is False; every campaign flown to the end is stored). echo(text),
     if given, is told which laws are reused and which are flown."""
     out = Path(out_dir)
-    flown = law_scenarios(set_dir, laws, out)  # every law checked before anything is written
-    limits = limits_of_runs.of_set(scenarios_of(set_dir))  # the set's stated limits, for every law
+    set_scenarios = scenarios_of(set_dir)
+    flown = law_scenarios(set_scenarios, laws, out)  # every law checked before anything is written
+    limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
     out.mkdir(parents=True, exist_ok=True)
     cards, summaries, every_row, names, units = [], {}, [], None, None
-    for law, path in flown.items():
-        key = campaign_key(path, runs, seed)
+    for law, (path, scenario) in flown.items():
+        key = campaign_key(path, scenario, runs, seed)
         stored = _stored(key) if reuse else None
         if stored is not None:
             rows, record = stored
@@ -246,22 +248,23 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
         else:
             if echo:
                 echo(f"{law}: flying {runs} runs")
-            rows, record = _fly(law, path, runs, out, workers, seed, scheduler, progress)
+            rows, record = _fly(law, path, scenario, runs, out, CampaignOptions(workers, seed, scheduler,
+                                                                                progress=progress))
             summaries[law] = {"scenario": str(path), "wall_time_s": record["wall_time_s"], "reused": False}
-            if record["status"] == "completed" and len(rows) == runs:
+            if record["status"] == Status.COMPLETED and len(rows) == runs:
                 _store(key, rows, list(rows[0]), record)
         cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits)})
         names = names or ["law"] + list(rows[0])
         units = units or {"law": "", **record["units"]}
         every_row += [{"law": law, **r} for r in rows]
-    band = load_scenario(next(iter(flown.values()))).outcome.get("band", 10e3)
+    band = next(iter(flown.values()))[1].outcome.get("band", 10e3)
     return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band),
                           limits_of_runs.columns(limits))
 
 
-def _fly(law, path, runs, out, workers, seed, scheduler, progress):
-    """(rows, record) of a campaign of the law flown now into out/<law> (an earlier benchmark's
-    campaign there is replaced)."""
+def _fly(law, path, scenario, runs, out, options):
+    """(rows, record) of a campaign of the law (its file `path`, loaded as `scenario`) flown now
+    into out/<law> (an earlier benchmark's campaign there is replaced)."""
     import shutil
 
     import pyarrow.parquet as pq
@@ -270,8 +273,8 @@ def _fly(law, path, runs, out, workers, seed, scheduler, progress):
     if (folder / "campaign.json").is_file():
         shutil.rmtree(folder)
     cpu0 = _cpu_seconds()
-    summary = run_campaign(path, runs, folder, workers=workers, seed=seed, scheduler=scheduler, progress=progress)
-    cpu = (_cpu_seconds() - cpu0) / runs if scheduler is None else None
+    summary = fly(ScenarioRef.of(Path(path).resolve()), scenario, runs, folder, options)
+    cpu = (_cpu_seconds() - cpu0) / runs if options.scheduler is None else None
     rows = pq.read_table(folder / "rows.parquet").to_pylist()
     record = {"card": score(law, rows, cpu), "units": summary["units"], "wall_time_s": summary["wall_time_s"],
               "status": summary["status"]}

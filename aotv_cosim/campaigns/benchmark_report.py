@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 from aotv_cosim.campaigns.figures import axes_style
+from aotv_cosim.campaigns.report import completed_values
 
 PANELS = (("outcome.apogee_error", "apogee error", "m"), ("outcome.dv_total", "correction dv", "m/s"),
           ("outcome.peak_heat_rate", "peak heat rate", "W/m2"), ("outcome.heat_load", "heat load", "J/m2"),
@@ -80,8 +81,7 @@ def plots(out_dir, rows_by_law, band=None) -> list:
         shown, factor = display(column, unit)
         data = []
         for law in laws:
-            x = np.array([float(r[column]) for r in rows_by_law[law] if r["status"] == "completed"], dtype=float)
-            data.append(x[np.isfinite(x)] * factor)
+            data.append(completed_values(rows_by_law[law], column) * factor)
         if not any(len(x) for x in data):
             ax.set_title(f"{name}: no finite value", fontsize=9)
             ax.axis("off")

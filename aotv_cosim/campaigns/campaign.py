@@ -1,7 +1,9 @@
 """A campaign from start to report: draws, batches, a backend, rows on disk, statistics."""
 
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Optional
 
 from aotv_cosim.engine import interrupts, plausibility, watchdog
 from aotv_cosim.errors import InputError
@@ -9,12 +11,14 @@ from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.campaigns import backends, campaign_report, report
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.engine.outdir import claimed
 from aotv_cosim.engine.results import write_json_atomically
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.engine.scenario import Scenario
+from aotv_cosim.status import Status
 
 
 CAMPAIGN_FILES = ("rows.csv", "rows.csv.part", "rows.parquet", "rows.parquet.part", "campaign.json",
@@ -53,42 +57,64 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
     `watchdog.CAMPAIGN_STEP_TIMEOUT`); max_rss: a local worker's memory limit, bytes (None: none).
     A run that passes either, or crashes its worker, is a 'failed' row with the cause (`pool`).
     """
-    scenario_path = Path(scenario_path).resolve()
-    scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
-    times = (start, stop) if start is not None or stop is not None else None
+    ref = ScenarioRef.of(Path(scenario_path).resolve(), sets, start, stop)
+    options = CampaignOptions(workers, seed, scheduler, resume, progress, make_plots, keep_series, step_timeout,
+                              max_rss)
+    return fly(ref, ref.load(), runs, out_dir, options)
+
+
+@dataclass(frozen=True)
+class CampaignOptions:
+    """How a campaign's runs are made and reported (the options of `run_campaign`)."""
+
+    workers: int = 1
+    """Local worker processes (with a scheduler: at least one batch per worker)."""
+    seed: int = 0
+    scheduler: object = None
+    """None for local workers, else a Dask scheduler address or distributed.Client."""
+    resume: bool = False
+    progress: bool = True
+    make_plots: bool = True
+    keep_series: bool = False
+    step_timeout: Optional[float] = None
+    """Wall-clock limit of one step, s (None: the scenario's, else `watchdog.CAMPAIGN_STEP_TIMEOUT`)."""
+    max_rss: Optional[int] = DEFAULT_MAX_RSS
+    """A local worker's memory limit, bytes (None: none)."""
+
+
+def fly(ref: ScenarioRef, scenario: Scenario, runs: int, out_dir, options: CampaignOptions) -> dict:
+    """`run_campaign` of the scenario `ref`, already loaded as `scenario`."""
     if not scenario.dispersions:
-        raise InputError("the scenario declares no dispersions", file=scenario_path, entry="dispersions",
+        raise InputError("the scenario declares no dispersions", file=ref.path, entry="dispersions",
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
-    limits = (step_timeout or scenario.step_timeout or watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss)
     with interrupts.deferred(), claimed(out_dir, CAMPAIGN_FILES):
-        return _campaign(scenario, scenario_path, runs, Path(out_dir), workers, seed, scheduler, resume,
-                         sets, progress, make_plots, times, limits, keep_series)
+        return _campaign(ref, scenario, runs, Path(out_dir), options)
 
 
-def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resume, sets, progress,
-              make_plots, times, limits, keep_series):
+def _campaign(ref, scenario, runs, out, options):
+    step_limit = options.step_timeout or scenario.step_timeout or watchdog.CAMPAIGN_STEP_TIMEOUT
     names = columns(scenario)
     campaign_report.chosen(scenario, names)  # refuse an unknown report column before any run
-    manifest = {"scenario": str(scenario_path), "runs": runs, "seed": seed, "sets": sets or {},
+    manifest = {"scenario": ref.path, "runs": runs, "seed": options.seed, "sets": ref.overrides,
                 "dispersions": [d.__dict__ for d in scenario.dispersions],
-                **({"start": times[0], "stop": times[1]} if times else {})}
+                **({"start": ref.start, "stop": ref.stop} if ref.times_overridden else {})}
     units = column_units(scenario, names)
-    store = RowStore(out, names, manifest, resume, units)
+    store = RowStore(out, names, manifest, options.resume, units)
     todo = [k for k in range(runs) if k not in store.done()]
-    work = [(k, draw(scenario.dispersions, seed, k)) for k in todo]
-    n_workers = workers if scheduler is None else max(1, workers)
-    chunks = batches_of(work, n_workers)
-    source = (backends.local(str(scenario_path), sets, chunks, workers, names, times, *limits,
-                             keep_series=keep_series) if scheduler is None
-              else backends.dask(str(scenario_path), sets, chunks, scheduler, names, times, keep_series=keep_series))
+    work = [(k, draw(scenario.dispersions, options.seed, k)) for k in todo]
+    local = options.scheduler is None
+    chunks = batches_of(work, options.workers if local else max(1, options.workers))
+    source = (backends.local(ref, chunks, options.workers, names, step_limit, options.max_rss,
+                             keep_series=options.keep_series) if local
+              else backends.dask(ref, chunks, options.scheduler, names, keep_series=options.keep_series))
     series = {}
     bar = None
-    if progress:
+    if options.progress:
         from tqdm import tqdm
 
         bar = tqdm(total=runs, initial=runs - len(todo), unit="run", desc="runs", smoothing=0.1)
     t0 = time.perf_counter()
-    status = "completed"
+    status = Status.COMPLETED
     try:
         for rows in source:
             for row in rows:
@@ -100,7 +126,7 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
             if interrupts.received():
                 raise Interrupted(interrupts.name())
     except Interrupted:
-        status = "interrupted"
+        status = Status.INTERRUPTED
     finally:
         source.close()  # on an interruption, stop the backend's pending work
         if bar is not None:
@@ -111,25 +137,26 @@ def _campaign(scenario, scenario_path, runs, out, workers, seed, scheduler, resu
     for r in rows:
         statuses[r["status"]] = statuses.get(r["status"], 0) + 1
     summary = {
-        "status": status, "stop_reason": f"interrupted by {interrupts.name()}" if status == "interrupted" else None,
-        "scenario": str(scenario_path), "runs": runs, "seed": seed,
-        "backend": "local" if scheduler is None else "dask", "workers": workers,
+        "status": status.value,
+        "stop_reason": f"interrupted by {interrupts.name()}" if status == Status.INTERRUPTED else None,
+        "scenario": ref.path, "runs": runs, "seed": options.seed,
+        "backend": "local" if local else "dask", "workers": options.workers,
         "runs_this_session": len(rows) - (runs - len(todo)), "wall_time_s": wall,
         "runs_per_s": (len(rows) - (runs - len(todo))) / wall if wall > 0 else None,
         "statuses": statuses,
         "warnings": plausibility.unit_slips(scenario.system),
-        "limits": {"step_timeout_s": limits[0], "max_rss_mib": limits[1] / 2**20 if limits[1] else None},
+        "limits": {"step_timeout_s": step_limit,
+                   "max_rss_mib": options.max_rss / 2**20 if options.max_rss else None},
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
-                   for r in rows if r["status"] != "completed"][:50],
+                   for r in rows if r["status"] != Status.COMPLETED][:50],
         "statistics": report.statistics(rows, names),
         "units": units,
     }
-    summary.update(campaign_report.write(out, rows, scenario, units, names,
-                                         make_plots and status == "completed"))
-    if keep_series:
+    plots = options.make_plots and status == Status.COMPLETED
+    summary.update(campaign_report.write(out, rows, scenario, units, names, plots))
+    if options.keep_series:
         from aotv_cosim.campaigns.series import write_series
 
-        summary["plots"] += write_series(out, series, scenario, str(scenario_path), sets, times,
-                                         make_plots and status == "completed")
+        summary["plots"] += write_series(out, series, scenario, ref, plots)
     write_json_atomically(out / "summary.json", summary)
     return summary

@@ -32,6 +32,7 @@ from aotv_cosim.engine.documents import strict_json
 from aotv_cosim.errors import InputError, SimulationError
 from aotv_cosim.engine.results import write_json_atomically
 from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.status import Status
 
 LIFT = "corridor_lift"
 """Name of the component that replaces the guidance."""
@@ -92,6 +93,7 @@ def run_corridor(scenario_path, out_dir, lift_to_drag: float, tolerance: float =
     "width_deg", "nominal_gamma0", "lift_to_drag", "tolerance_m", "band_m", "units", "plots"};
     each bound {"gamma0" rad, "apogee_error" m, "edge" m, "runs", "points": [(gamma0, error)]}.
     Written to out_dir/corridor.json with corridor.png. bracket: the gamma0 range searched (rad)."""
+    from aotv_cosim.campaigns.scenario_ref import ScenarioRef
     from aotv_cosim.campaigns.worker import Runner
 
     check_options(scenario_path, lift_to_drag, tolerance, bracket)
@@ -106,7 +108,7 @@ def run_corridor(scenario_path, out_dir, lift_to_drag: float, tolerance: float =
     result = {"scenario": str(Path(scenario_path).resolve()), "lift_to_drag": lift_to_drag, "tolerance_m": tolerance,
               "band_m": band, "nominal_gamma0": nominal, "bracket": list(bracket)}
     for bound, case, edge in (("steep", "lift_up", -band), ("shallow", "lift_down", band)):
-        runner = Runner(paths[case])
+        runner = Runner(ScenarioRef.of(paths[case]))
         result[bound] = _bisect(lambda g: _apogee_error(runner, signal, g), edge, tolerance, bracket, max_runs,
                                 case, paths[case])
     result["width_rad"] = result["shallow"]["gamma0"] - result["steep"]["gamma0"]
@@ -141,7 +143,7 @@ def _apogee_error(runner, signal, gamma0) -> float:
     """The apogee error (m) of the pass entered at gamma0: -inf if it never exits or impacts,
     +inf if the exit orbit is unbound; SimulationError if the run fails."""
     row = runner.run(0, {signal: gamma0})
-    if row["status"] not in ("completed", "impact"):
+    if row["status"] not in (Status.COMPLETED, Status.IMPACT):
         raise SimulationError(f"the run at {signal} = {gamma0!r} rad failed: {row['error']}",
                               file=str(runner.scenario.path), fix="see the error; narrow --bracket")
     error = float(row["outcome.apogee_error"])

@@ -7,9 +7,9 @@ files keep SI; ticks are limited in number and never offset."""
 
 import numpy as np
 
-from aotv_cosim.campaigns.report import ellipse_3sigma
-from aotv_cosim.campaigns.report_tables import values
+from aotv_cosim.campaigns.report import completed_values, ellipse_3sigma
 from aotv_cosim.campaigns.units import display
+from aotv_cosim.status import Status
 
 
 def label(name, units) -> str:
@@ -37,7 +37,7 @@ def axes_style(ax):
 
 
 def _pairs(rows, x_name, y_name):
-    ok = [r for r in rows if r["status"] == "completed"]
+    ok = [r for r in rows if r["status"] == Status.COMPLETED]
     x = np.array([float(r[x_name]) for r in ok])
     y = np.array([float(r[y_name]) for r in ok])
     keep = np.isfinite(x) & np.isfinite(y)
@@ -54,7 +54,7 @@ def plots(out_dir, rows, scenario, units, columns, versus) -> tuple:
 
     files, notes, drawn = [], [], []
     for name in columns:
-        x = values(rows, name)
+        x = completed_values(rows, name)
         if len(x) < 2:
             notes.append(f"`{name}`: fewer than 2 finite values, no histogram")
         elif np.ptp(x) == 0.0:

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.status import Status
 
 LIMITED = (("load_factor", "outcome.peak_load_factor", "1"),
            ("heat_rate", "outcome.peak_heat_rate", "W/m2"),
@@ -22,11 +22,12 @@ LIMITED = (("load_factor", "outcome.peak_load_factor", "1"),
 """(limit name, row column of the peak, unit)."""
 
 
-def of_set(paths) -> dict:
-    """The limits of a set's scenarios ({} when none states any); InputError when two differ."""
+def of_set(loaded) -> dict:
+    """The limits of a set's scenarios, [(path, loaded Scenario)] ({} when none states any);
+    InputError when two differ."""
     found, first = {}, None
-    for path in paths:
-        outcome = load_scenario(path).outcome or {}
+    for path, scenario in loaded:
+        outcome = scenario.outcome or {}
         limits = dict(outcome.get("limits", {}))
         if first is None:
             first, found = path, limits
@@ -61,7 +62,7 @@ def score(rows, limits: dict, vehicle: str = "vehicle") -> dict:
     """The added scorecard figures of one law's rows (None: not given by the runs)."""
     if not limits:
         return {}
-    done = [r for r in rows if r["status"] == "completed"]
+    done = [r for r in rows if r["status"] == Status.COMPLETED]
 
     def pct(column, p):
         x = _values(done, column)

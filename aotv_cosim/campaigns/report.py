@@ -1,28 +1,40 @@
-"""Campaign statistics: percentiles per column, and the 3-sigma ellipse of a scatter."""
+"""Campaign statistics: a column's values over the completed runs and their sample statistics
+(summary.json `statistics`, the report's 3-sigma table), and the 3-sigma ellipse of a scatter."""
 
 import math
 
 import numpy as np
 
+from aotv_cosim.status import Status
+
 PERCENTILES = (1, 5, 50, 95, 99)
+"""Percentiles of summary.json's `statistics`."""
+TEXT_COLUMNS = ("run", "status", "error", "outcome", "outcome.reason")
+"""Row columns that hold no measured number."""
 
 
-def _numeric(rows, name):
-    values = np.array([r[name] for r in rows if r["status"] == "completed"], dtype=float)
-    return values[np.isfinite(values)]
+def completed_values(rows, name) -> np.ndarray:
+    """The finite values of column `name` over the completed runs."""
+    x = np.array([r[name] for r in rows if r["status"] == Status.COMPLETED], dtype=float)
+    return x[np.isfinite(x)]
+
+
+def sample_statistics(x: np.ndarray, percentiles) -> dict:
+    """{n, mean, std (sample; 0 for one value), min, max, p<q> for each of the `percentiles` q}
+    of the values `x` (not empty), in their unit."""
+    return {"n": int(len(x)), "mean": float(x.mean()), "std": float(x.std(ddof=1)) if len(x) > 1 else 0.0,
+            "min": float(x.min()), "max": float(x.max()),
+            **{f"p{p:g}": float(v) for p, v in zip(percentiles, np.percentile(x, percentiles))}}
 
 
 def statistics(rows, columns) -> dict:
-    """{column: {n, mean, std, min, max, p1..p99}} over the completed runs."""
+    """{column: {n, mean, std, min, max, p1..p99}} over the completed runs (a column without a
+    finite value is left out)."""
     stats = {}
     for name in columns:
-        if name in ("run", "status", "error", "outcome", "outcome.reason"):
-            continue
-        x = _numeric(rows, name)
+        x = completed_values(rows, name) if name not in TEXT_COLUMNS else []
         if len(x):
-            stats[name] = {"n": int(len(x)), "mean": float(x.mean()), "std": float(x.std(ddof=1)) if len(x) > 1 else 0.0,
-                           "min": float(x.min()), "max": float(x.max()),
-                           **{f"p{p}": float(v) for p, v in zip(PERCENTILES, np.percentile(x, PERCENTILES))}}
+            stats[name] = sample_statistics(x, PERCENTILES)
     return stats
 
 

@@ -8,8 +8,7 @@ from mean +- 3 std, so a skewed or bounded column keeps its own tails. With fewe
 
 import math
 
-import numpy as np
-
+from aotv_cosim.campaigns.report import completed_values, sample_statistics
 from aotv_cosim.mission.outcome_rows import CLASS, counts
 
 BAND = (0.135, 50.0, 99.865)
@@ -29,23 +28,15 @@ def default_columns(scenario) -> list:
     return names + [f"{at}.{s}" for s in scenario.record]
 
 
-def values(rows, name) -> np.ndarray:
-    """The finite values of a column over the completed runs."""
-    x = np.array([float(r[name]) for r in rows if r["status"] == "completed"], dtype=float)
-    return x[np.isfinite(x)]
-
-
 def three_sigma(rows, columns) -> dict:
     """{column: {n, mean, std, p0.135, p50, p99.865, min, max}} over the completed runs (a
     column without a finite value is left out)."""
     table = {}
     for name in columns:
-        x = values(rows, name)
+        x = completed_values(rows, name)
         if len(x):
-            p = np.percentile(x, BAND)
-            table[name] = dict(zip(FIELDS, (int(len(x)), float(x.mean()),
-                                            float(x.std(ddof=1)) if len(x) > 1 else 0.0,
-                                            *map(float, p), float(x.min()), float(x.max()))))
+            stats = sample_statistics(x, BAND)
+            table[name] = {field: stats[field] for field in FIELDS}
     return table
 
 

@@ -12,9 +12,10 @@ from pathlib import Path
 from aotv_cosim.engine.series import TIME_UNIT
 
 
-def write_series(out: Path, series: dict, scenario, scenario_path, sets, times, make_plots) -> list:
+def write_series(out: Path, series: dict, scenario, ref, make_plots) -> list:
     """Write series.parquet from {run: {"time": [...], signal: [...]}} (merged with the file a
-    resumed campaign left); returns the plot files written."""
+    resumed campaign left); returns the plot files written. `scenario`: the campaign's, loaded
+    from `ref` (`scenario_ref.ScenarioRef`)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -40,7 +41,7 @@ def write_series(out: Path, series: dict, scenario, scenario_path, sets, times, 
     vehicle = (scenario.outcome or {}).get("vehicle", "vehicle")
     if not make_plots or not {f"{vehicle}.h", f"{vehicle}.v"} <= set(signals):
         return []
-    nominal = Runner(scenario_path, sets, times, keep_series=True).run(-1, {}).get("series", {})
+    nominal = Runner(ref, keep_series=True).run(-1, {}).get("series", {})
     return [trajectories(out, [series[k] for k in runs], nominal, vehicle)]
 
 

@@ -19,6 +19,7 @@ import numpy as np
 
 from aotv_cosim.campaigns import backends
 from aotv_cosim.campaigns.campaign import batches_of
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
@@ -26,7 +27,7 @@ from aotv_cosim.engine import interrupts
 from aotv_cosim.errors import InputError
 from aotv_cosim.engine.master import Interrupted
 from aotv_cosim.engine.results import write_json_atomically
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.status import Status
 
 
 MAX_POINTS = 100_000
@@ -92,7 +93,8 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
         raise InputError("no grid given", file=scenario_path, entry="--grid",
                          fix="give at least one --grid COMP.VAR=LOW:HIGH:N")
     check_grids(grids, scenario_path)
-    scenario = load_scenario(scenario_path, sets)
+    ref = ScenarioRef.of(scenario_path, sets)
+    scenario = ref.load()
     parameters = [name for name, _ in grids]
     for name in parameters:
         comp, _, var = name.partition(".")
@@ -114,9 +116,9 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
         from tqdm import tqdm
 
         bar = tqdm(total=len(work), unit="run", desc="sweep")
-    status = "completed"
+    status = Status.COMPLETED
     with interrupts.deferred():
-        source = backends.local(str(scenario_path), sets, batches_of(work, workers), workers, names)
+        source = backends.local(ref, batches_of(work, workers), workers, names)
         try:
             for rows in source:
                 for row in rows:
@@ -126,7 +128,7 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
                 if interrupts.received():
                     raise Interrupted(interrupts.name())
         except Interrupted:
-            status = "interrupted"  # the points flown so far are written below
+            status = Status.INTERRUPTED  # the points flown so far are written below
         finally:
             source.close()
             if bar is not None:
@@ -136,7 +138,7 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
     out.mkdir(parents=True, exist_ok=True)
     write_parquet(rows, keep, out / "sweep.parquet", units)
     _write_csv(out / "sweep.csv", rows, keep, units)
-    result = {"status": status, "scenario": str(scenario_path), "parameters": parameters, "grids": dict(grids),
+    result = {"status": status.value, "scenario": str(scenario_path), "parameters": parameters, "grids": dict(grids),
               "runs": len(rows), "points": len(points), "wall_time_s": time.perf_counter() - t0, "units": units, "columns": keep}
     from aotv_cosim.campaigns.figures import sweep_plot
 

@@ -1,6 +1,6 @@
 """One worker's side of a campaign: the scenario loaded once, FMUs reused, runs turned into rows.
 
-A worker process keeps one `Runner` per (scenario file, --set values) and per thread, so the
+A worker process keeps one `Runner` per `ScenarioRef` (scenario file, --set values, times) and per thread, so the
 FMUs are instantiated once per worker and only reset (fmi2Reset) between runs. A row holds no
 timing, so the same run gives the same row on any worker and backend.
 """
@@ -10,10 +10,11 @@ import threading
 
 import numpy as np
 
+from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.mission import outcome_rows
 from aotv_cosim.engine.master import Master
 from aotv_cosim.engine.runner import numeric_columns
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.status import Status
 
 _LOCAL = threading.local()
 
@@ -36,17 +37,18 @@ SERIES_POINTS = 200
 
 
 class _Extrema:
-    """The master's `record` callback keeping only the last row and running min/max of `signals`,
-    and, when `spacing` (s) is given, the rows at least that far apart in time (`series`)."""
+    """A run's recorder (`engine.rows.Recorder`) keeping only the last row and running min/max of
+    `signals`, and, when `spacing` (s) is given, the rows at least that far apart in time (`series`)."""
 
     def __init__(self, master, signals, spacing=None):
         self.master, self.signals = master, signals
         self.select = None
         self.last = self.low = self.high = None
         self.time = math.nan
+        """Time of the last row recorded, s."""
         self.spacing, self.series, self.kept_at = spacing, [], -math.inf
 
-    def __call__(self, times, rows):
+    def record(self, times, rows):
         if self.select is None:  # the master's buffer layout is known once it runs
             self.select = [self.master.index[s] for s in self.signals]
         rows = rows[:, self.select]
@@ -71,11 +73,10 @@ class _Extrema:
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, scenario_path, sets=None, times=None, keep_series=False, step_limit=None):
+    def __init__(self, ref: ScenarioRef, keep_series=False, step_limit=None):
         """keep_series: keep each run's recorded signals, decimated (`SERIES_POINTS`); step_limit:
         the campaign's wall-clock limit per step, s (`engine.watchdog`; None: the scenario's)."""
-        start, stop = times or (None, None)
-        self.scenario = load_scenario(scenario_path, sets, start=start, stop=stop)
+        self.scenario = ref.load()
         if step_limit is not None:
             self.scenario.step_timeout = step_limit
         self.spacing = (self.scenario.stop - self.scenario.start) / SERIES_POINTS if keep_series else None
@@ -94,12 +95,12 @@ class Runner:
 
     def _run(self, run: int, values: dict) -> dict:
         row = dict.fromkeys(self.columns, math.nan)
-        row.update(run=run, status="error", error="")
+        row.update(run=run, status=Status.ERROR, error="")
         row.update({f"dispersed.{k}": v for k, v in values.items()})
         try:
-            master = Master(self.scenario, None, overrides=values, pool=self.pool)
-            master.record = extrema = _Extrema(master, self.signals, self.spacing)
-            outcome = master.run()
+            master = Master(self.scenario, overrides=values, pool=self.pool)
+            extrema = _Extrema(master, self.signals, self.spacing)
+            outcome = master.run(extrema)
         except Exception as exc:  # a bad draw (e.g. a value the FMU rejects): record it, go on
             row["error"] = f"{type(exc).__name__}: {exc}"
             return row
@@ -118,26 +119,26 @@ class Runner:
         return row
 
 
-def runner(scenario_path, sets=None, times=None, keep_series=False, step_limit=None) -> Runner:
-    """This thread's Runner for the scenario (made on first use); times: (start, stop) or None."""
-    key = (str(scenario_path), tuple(sorted((sets or {}).items())), times, keep_series, step_limit)
+def runner(ref: ScenarioRef, keep_series=False, step_limit=None) -> Runner:
+    """This thread's Runner for the scenario (made on first use)."""
+    key = (ref, keep_series, step_limit)
     cache = getattr(_LOCAL, "runners", None)
     if cache is None:
         cache = _LOCAL.runners = {}
     if key not in cache:
-        cache[key] = Runner(scenario_path, sets, times, keep_series, step_limit)
+        cache[key] = Runner(ref, keep_series, step_limit)
     return cache[key]
 
 
-def run_batch(scenario_path, sets, batch, times=None, keep_series=False) -> list:
+def run_batch(ref: ScenarioRef, batch, keep_series=False) -> list:
     """Rows of a batch [(run, values), ...] (the task sent to a Dask worker)."""
-    r = runner(scenario_path, sets, times, keep_series)
+    r = runner(ref, keep_series)
     return [r.run(run, values) for run, values in batch]
 
 
-def run_one(scenario_path, sets, run, values, times=None, step_limit=None, keep_series=False) -> dict:
+def run_one(ref: ScenarioRef, run, values, step_limit=None, keep_series=False) -> dict:
     """The row of one run (the task sent to a local worker)."""
-    return runner(scenario_path, sets, times, keep_series, step_limit).run(run, values)
+    return runner(ref, keep_series, step_limit).run(run, values)
 
 
 def release() -> None:

@@ -177,11 +177,10 @@ class FmuInstance:
         what = f"{call} returned {STATUS.get(status, status)}" if status is not None else call
         where = f"{self.name}.{variable}" if variable else self.name
         self.broken = status is not None and status > 2 or status is None
-        error = SimulationError(f"{what} at t = {time:.6g} s: {self.last_message()}",
-                                file=self.info.path.name, entry=where,
-                                fix="the results up to this time are saved; the FMU's log is in summary.json (error_detail.fmu_log)")
-        error.component, error.time, error.variable = self.name, time, variable
-        return error
+        return SimulationError(f"{what} at t = {time:.6g} s: {self.last_message()}",
+                               file=self.info.path.name, entry=where,
+                               fix="the results up to this time are saved; the FMU's log is in summary.json (error_detail.fmu_log)",
+                               component=self.name, variable=variable, time=time)
 
     def _call(self, call, function):
         try:

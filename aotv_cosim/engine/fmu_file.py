@@ -5,17 +5,22 @@ Feedthrough is read per variable from ModelStructure (`Outputs` dependencies; no
 the output depends on every input); initial feedthrough adds `InitialUnknowns`.
 """
 
-import difflib
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
+from typing import Callable, Union
 
 from fmpy import read_model_description
 
 from aotv_cosim.engine.archives import check_fmu_members, check_sizes
 from aotv_cosim.errors import InputError
 from aotv_cosim.paths import regular_file, resolved
-from aotv_cosim.fmu import build as fmu_build
+
+FmuResolver = Callable[[Union[str, Path]], Path]
+"""Gives the .fmu file of a wiring's FMU reference that is not a .fmu path: a name of this
+package's FMUs, or a user's FMU source (its absolute .py path). Loading takes one, so it builds
+nothing itself; the API and the command line give `fmu.build.built_fmu`, which builds the FMU
+when it is missing or stale. An AotvError it raises is reported against the wiring entry."""
 
 
 @dataclass(frozen=True)
@@ -51,28 +56,25 @@ class FmuInfo:
         return self.model_description.coSimulation.modelIdentifier
 
 
-def resolve_fmu(ref: str, base: Path, *, file=None, entry=None) -> Path:
-    """An FMU reference of a wiring file: a path ending in .fmu, or a user's FMU source ending in
-    .py (built into the cache on first use, `fmu_build.ensure_fmu`), both relative to base, or a
-    name in fmus_src."""
+def resolve_fmu(ref: str, base: Path, fmus: FmuResolver, *, file=None, entry=None) -> Path:
+    """The .fmu file of an FMU reference of a wiring file: a path ending in .fmu, relative to
+    base; a user's FMU source ending in .py, relative to base, or a name of this package's FMUs,
+    both given to `fmus`. A name `fmus` refuses (InputError) is reported against `file` and `entry`."""
     if ref.endswith(".fmu"):
         return resolved(base / ref, file=file, entry=entry, what=".fmu file")
-    if fmu_build.is_source_path(ref):
+    if ref.endswith(".py"):
         source = resolved(base / ref, file=file, entry=entry, what="FMU source (.py)")
         try:
             regular_file(source, what="FMU source (.py)", file=file, entry=entry)
         except InputError as exc:
             raise InputError(f"FMU source {exc.cause}", file=file, entry=entry,
                              fix="correct the path (relative to the wiring file)") from None
-        return fmu_build.ensure_fmu(source)
-    names = fmu_build.available_fmus()
-    if ref not in names:
-        close = difflib.get_close_matches(ref, names, n=3)
-        hint = f"did you mean {' or '.join(close)}? " if close else ""
-        raise InputError(f"no FMU named {ref!r} in this package", file=file, entry=entry,
-                         fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
-                             f"wiring file) or one of {', '.join(names)}")
-    return fmu_build.ensure_fmu(ref)
+        return fmus(source)
+    try:
+        return fmus(ref)
+    except InputError as exc:
+        exc.file, exc.entry = exc.file or file, exc.entry or entry
+        raise
 
 
 def check_archive(path: Path, *, file=None, entry=None) -> None:

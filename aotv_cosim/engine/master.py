@@ -47,16 +47,17 @@ from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.interrupts import Interrupted
 from aotv_cosim.engine.fmi_calls import Plan, bind, calls_by_type, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance
-from aotv_cosim.engine.rows import CHUNK, Rows
+from aotv_cosim.engine.rows import CHUNK, Recorder, Rows
 from aotv_cosim.engine.ranges import RangeWatch, range_watches
 from aotv_cosim.engine.scenario import crossing
 from aotv_cosim.engine.variable_types import Strings
+from aotv_cosim.status import Status
 
 @dataclass
 class Outcome:
     """What a run produced besides its time series."""
 
-    status: str = "completed"
+    status: Status = Status.COMPLETED
     stop_reason: str = "stop time reached"
     event: dict = None
     error: str = None
@@ -85,14 +86,16 @@ def signals_to_read(scenario):
 
 
 class Master:
-    """Runs one Scenario; `record(times, rows)` receives chunks of recorded rows as they come."""
+    """Runs one Scenario; `run(recorder)` passes the recorder chunks of recorded rows as they come."""
 
-    def __init__(self, scenario, record, progress=None, overrides=None, pool=None):
-        """overrides: {'comp.var': value} set after the wiring's values (a Monte Carlo draw);
-        pool: a dict kept by the caller between runs, {name: FmuInstance}: its instances are
-        reset (fmi2Reset) instead of instantiated again, and left open at the end of the run."""
+    def __init__(self, scenario, progress=None, overrides=None, pool=None):
+        """progress(t): told the time (s) now and then; overrides: {'comp.var': value} set after
+        the wiring's values (a Monte Carlo draw); pool: a dict kept by the caller between runs,
+        {name: FmuInstance}: its instances are reset (fmi2Reset) instead of instantiated again,
+        and left open at the end of the run."""
         self.scenario = scenario
-        self.record = record
+        self.record = None
+        """The `record` of the recorder of the run under way (`rows.Rows` flushes to it)."""
         self.progress = progress
         self.overrides = overrides or {}
         self.pool = pool
@@ -232,11 +235,14 @@ class Master:
             if p.after:
                 run_bound(bind(p.after), self.values, t)
 
-    def run(self) -> Outcome:
-        """Run the scenario to its stop time or stop condition; never raises for a failed run."""
+    def run(self, recorder: Recorder) -> Outcome:
+        """Run the scenario to its stop time or stop condition, the recorded rows passed to
+        `recorder` in chunks (the columns laid out as `self.index` says, known once it runs);
+        never raises for a failed run."""
         outcome = Outcome()
         wall0 = clock.perf_counter()
         s = self.scenario
+        self.record = recorder.record
         rows = Rows(self, outcome)
         try:
             self._instantiate(outcome)
@@ -250,22 +256,20 @@ class Master:
                 self._loop(rows, outcome)
             outcome.loop_time = clock.perf_counter() - wall0 - outcome.init_time
         except SimulationError as exc:
-            outcome.status, outcome.error = "failed", str(exc)
-            component = getattr(exc, "component", "?")
-            outcome.stop_reason = f"failure in {component}" if component else "output failed"
-            outcome.error_detail = {"component": getattr(exc, "component", None),
-                                    "variable": getattr(exc, "variable", None),
-                                    "time": getattr(exc, "time", None), "message": exc.cause}
+            outcome.status, outcome.error = Status.FAILED, str(exc)
+            outcome.stop_reason = f"failure in {exc.component}" if exc.component else "output failed"
+            outcome.error_detail = {"component": exc.component, "variable": exc.variable,
+                                    "time": exc.time, "message": exc.cause}
         except TerminateRequest as request:
             self._terminated(request, rows, outcome)
         except (KeyboardInterrupt, Interrupted):
-            outcome.status = "interrupted"
+            outcome.status = Status.INTERRUPTED
             outcome.stop_reason = f"interrupted by {interrupts.name() or 'SIGINT'}"
         finally:
             try:
                 rows.flush()
             except SimulationError as exc:  # non-finite value in the last chunk, or a write failed
-                outcome.status, outcome.error = "failed", str(exc)
+                outcome.status, outcome.error = Status.FAILED, str(exc)
                 outcome.stop_reason = "non-finite value" if exc.component else "output failed"
                 outcome.error_detail = {"component": exc.component, "variable": exc.variable,
                                         "time": exc.time, "message": exc.cause}
@@ -284,7 +288,7 @@ class Master:
         In a system the other components have already stepped past that time, or not yet, so no
         consistent row exists there."""
         last = request.last_successful_time
-        outcome.status = "terminated"
+        outcome.status = Status.TERMINATED
         when = last if last is not None else request.time
         outcome.stop_reason = f"{request.component} asked to terminate at t = {when:.6g} s"
         outcome.terminate_request = {"component": request.component, "communication_point": request.time,

@@ -84,6 +84,7 @@ def degenerate_physics(units: dict, maxima: dict) -> list:
     return warnings
 
 
-def run_warnings(scenario, summary: dict) -> list:
-    """The plausibility warnings of a finished run's summary (values given, then physics seen)."""
-    return unit_slips(scenario.system) + degenerate_physics(summary["units"], summary["max"])
+def run_warnings(scenario, summary) -> list:
+    """The plausibility warnings of a finished run's `summary.RunSummary` (values given, then
+    physics seen)."""
+    return unit_slips(scenario.system) + degenerate_physics(summary.units, summary.max)

@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass
 
 from aotv_cosim.errors import InputError
+from aotv_cosim.status import Status
 
 
 def declared_range(fmu, name):
@@ -50,7 +51,7 @@ class RangeWatch:
     signal: str
     threshold: float
     direction: str
-    status: str
+    status: Status
     message: str
 
 
@@ -67,11 +68,11 @@ def range_watches(system, read):
         low, high = bounds
         if math.isfinite(low):
             impact = var == "h"
-            watches.append(RangeWatch(signal, low, "down", "impact" if impact else "out_of_range",
+            watches.append(RangeWatch(signal, low, "down", Status.IMPACT if impact else Status.OUT_OF_RANGE,
                                       f"{signal} reached the ground (h = {low:g} m)" if impact
                                       else f"{signal} fell below its declared min {low:g}"))
         if math.isfinite(high):
-            watches.append(RangeWatch(signal, high, "up", "out_of_range",
+            watches.append(RangeWatch(signal, high, "up", Status.OUT_OF_RANGE,
                                       f"{signal} rose above its declared max {high:g}"))
     return watches
 

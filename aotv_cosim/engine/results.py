@@ -22,8 +22,6 @@ from aotv_cosim.errors import SimulationError
 class OutputError(SimulationError):
     """A result file could not be written (disk full, I/O error): the run fails with this cause."""
 
-    component = variable = time = None
-
     def __init__(self, path: Path, exc: OSError):
         super().__init__(f"cannot write {Path(path).name}: {exc.strerror or exc}", file=Path(path).parent,
                          entry="--out", fix="free space on that disk or choose another --out")

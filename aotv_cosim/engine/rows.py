@@ -1,7 +1,9 @@
 """Recorded communication points of a run: kept as the bytes of the master's value buffer and
-flushed in chunks to the run's `record` callback, with the first non-finite value found per chunk
-and blamed on the component that produced it.
+flushed in chunks to the run's `Recorder`, with the first non-finite value found per chunk and
+blamed on the component that produced it.
 """
+
+from typing import Protocol
 
 import numpy as np
 
@@ -12,8 +14,16 @@ CHUNK = 1000
 """Communication points recorded between two flushes to the result files."""
 
 
+class Recorder(Protocol):
+    """What `Master.run` passes the recorded rows to."""
+
+    def record(self, times: np.ndarray, rows: np.ndarray) -> None:
+        """A chunk of recorded communication points: their times (s) and the master's value
+        buffer at each (float64, one column per signal as `Master.index` lays them out)."""
+
+
 class Rows:
-    """Recorded communication points flushed in chunks to `master.record`.
+    """Recorded communication points flushed in chunks to `master.record` (the run's `Recorder`).
 
     A row is kept as the bytes of the master's value buffer (one memcpy), made an array of rows
     when the chunk is flushed."""
@@ -57,11 +67,10 @@ class Rows:
         signal = next(sig for sig, i in self.master.index.items() if i == col)
         comp, var = signal.split(".", 1)
         inst = self.master.instances[comp]
-        error = SimulationError(f"output {var} is not finite at t = {t:.6g} s",
-                                file=inst.info.path.name, entry=signal,
-                                fix="check the inputs and parameters of this component")
-        error.component, error.variable, error.time = comp, var, float(t)
-        return error
+        return SimulationError(f"output {var} is not finite at t = {t:.6g} s",
+                               file=inst.info.path.name, entry=signal,
+                               fix="check the inputs and parameters of this component",
+                               component=comp, variable=var, time=float(t))
 
     def event(self, cond, t0, t1, fraction, previous):
         """The stop condition's crossing, linearly interpolated between two communication points

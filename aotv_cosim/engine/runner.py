@@ -14,17 +14,19 @@ from aotv_cosim.engine.outdir import claimed
 from aotv_cosim.engine.results import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
                                        write_json_atomically)
 from aotv_cosim.engine.series import SeriesTable, units_of, write_parquet
+from aotv_cosim.engine.summary import RunSummary
 from aotv_cosim.engine.variable_types import Decoder
+from aotv_cosim.status import Status
 
 FORMATS = ("csv", "parquet")
 """Time series files a run can write: timeseries.csv (as the run goes) and timeseries.parquet."""
 
 
 class Run(NamedTuple):
-    """A finished run: its summary dict and the recorded table (columns, times in s, rows as
+    """A finished run: its summary and the recorded table (columns, times in s, rows as
     float64; `decoder` gives the columns that are not Real their types, `variable_types`)."""
 
-    summary: dict
+    summary: RunSummary
     columns: list
     times: np.ndarray
     rows: np.ndarray
@@ -45,8 +47,8 @@ def numeric_columns(scenario) -> list:
     return [c for c in recorded_columns(scenario) if scenario.system.variable(c).type != "String"]
 
 
-def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)):
-    """Run and write results; returns the summary dict (also in out_dir/summary.json)."""
+def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)) -> RunSummary:
+    """Run and write results; returns the summary (also in out_dir/summary.json)."""
     return write_run(scenario, out_dir, progress, make_plots, formats).summary
 
 
@@ -74,14 +76,13 @@ def _write_into(scenario, out_dir, progress, make_plots, formats):
 
     run = simulate(scenario, open_series, progress)
     summary, columns, times, rows, decoder = run
-    if "parquet" in formats and summary["stop_reason"] != "output failed":
-        write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary["units"], decoder)
-    if make_plots and len(times) > 1 and summary["status"] != "interrupted" and summary["stop_reason"] != "output failed":
-        summary["plots"] = plots.overview(out_dir, scenario.system, columns, times, rows,
-                                          scenario.path.stem)
-        summary["plots"] += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
-                             for spec in scenario.plots]
-    write_json_atomically(out_dir / "summary.json", summary)
+    if "parquet" in formats and summary.stop_reason != "output failed":
+        write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary.units, decoder)
+    if make_plots and len(times) > 1 and summary.status != Status.INTERRUPTED and summary.stop_reason != "output failed":
+        summary.plots = plots.overview(out_dir, scenario.system, columns, times, rows, scenario.path.stem)
+        summary.plots += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
+                          for spec in scenario.plots]
+    write_json_atomically(out_dir / "summary.json", summary.as_json())
     return run
 
 
@@ -97,24 +98,33 @@ def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
         return _simulate(scenario, open_series, progress)
 
 
-def _simulate(scenario, open_series, progress):
-    writer = None
+class _Series:
+    """The run's recorder (`rows.Recorder`): opens the series object with `open_series` at the
+    first chunk, once the master's buffer layout is known, and passes it every chunk."""
 
+    def __init__(self, open_series, columns, master, decoder):
+        self.open, self.columns, self.master, self.decoder = open_series, columns, master, decoder
+        self.writer = None
+
+    def record(self, times, rows):
+        if self.writer is None:
+            index = self.master.index
+            self.writer = self.open(self.columns, index, self.decoder) if self.decoder else \
+                self.open(self.columns, index)
+        self.writer(times, rows)
+
+
+def _simulate(scenario, open_series, progress):
     columns = recorded_columns(scenario)
     types = {c: scenario.system.variable(c).type for c in columns}
+    master = Master(scenario, progress)
     decoder = None
-
-    def record(times, rows):
-        nonlocal writer
-        if writer is None:
-            writer = open_series(columns, master.index, decoder) if decoder else open_series(columns, master.index)
-        writer(times, rows)
-
-    master = Master(scenario, record, progress)
     if any(kind != "Real" for kind in types.values()):
         decoder = Decoder({c: k for c, k in types.items() if k != "Real"}, master.strings.texts)
-    outcome = master.run()
+    series = _Series(open_series, columns, master, decoder)
+    outcome = master.run(series)
     _attach_fmu_log(outcome, master)
+    writer = series.writer
     try:
         if writer is None:  # failed before the first row: still leave a readable, empty series
             columns = []
@@ -123,49 +133,48 @@ def _simulate(scenario, open_series, progress):
     except OutputError as exc:
         _output_failed(outcome, exc)
     times, rows = writer.table() if writer is not None else ([], [])
-    if interrupts.received() and outcome.status == "completed":  # signal after the last step
-        outcome.status, outcome.stop_reason = "interrupted", f"interrupted by {interrupts.name()}"
+    if interrupts.received() and outcome.status == Status.COMPLETED:  # signal after the last step
+        outcome.status, outcome.stop_reason = Status.INTERRUPTED, f"interrupted by {interrupts.name()}"
     final, minima, maxima = statistics(columns, times, rows, decoder)
-    summary = {
-        "scenario": str(scenario.path),
-        "system": str(scenario.system.path),
-        "description": scenario.description,
-        "status": outcome.status,
-        "stop_reason": outcome.stop_reason,
-        "warnings": _warnings(scenario, outcome),
-        "error": outcome.error,
-        "error_detail": outcome.error_detail,
-        "event": outcome.event,
-        **({"terminate_request": outcome.terminate_request} if outcome.terminate_request else {}),
-        "algorithm": scenario.algorithm,
-        "start": scenario.start, "stop": scenario.stop, "step": scenario.step,
-        "end_time": float(times[-1]) if len(times) else None,
-        "steps": outcome.steps,
-        **({"step_control": outcome.step_control} if outcome.step_control is not None else {}),
-        "wall_time_s": outcome.wall_time,
-        "init_time_s": outcome.init_time,
-        "us_per_step": (outcome.wall_time - outcome.init_time) / outcome.steps * 1e6 if outcome.steps else None,
-        "final": final, "min": minima, "max": maxima,
-        "units": units_of(scenario.system, columns),
-        **({"types": decoder.types} if decoder else {}),
-        "expectations": evaluate_expectations(scenario.expectations, columns, times, rows, outcome.event,
-                                              decoder) if outcome.status in ("completed", "terminated") else [],
-        "fmus": outcome.fmus,
-        "versions": {"aotv_cosim": __version__, "python": platform.python_version()},
-        "plots": [],
-    }
+    summary = RunSummary(
+        scenario=str(scenario.path),
+        system=str(scenario.system.path),
+        description=scenario.description,
+        status=outcome.status,
+        stop_reason=outcome.stop_reason,
+        warnings=_warnings(scenario, outcome),
+        error=outcome.error,
+        error_detail=outcome.error_detail,
+        event=outcome.event,
+        terminate_request=outcome.terminate_request or None,
+        algorithm=scenario.algorithm,
+        start=scenario.start, stop=scenario.stop, step=scenario.step,
+        end_time=float(times[-1]) if len(times) else None,
+        steps=outcome.steps,
+        step_control=outcome.step_control,
+        wall_time_s=outcome.wall_time,
+        init_time_s=outcome.init_time,
+        us_per_step=(outcome.wall_time - outcome.init_time) / outcome.steps * 1e6 if outcome.steps else None,
+        final=final, min=minima, max=maxima,
+        units=units_of(scenario.system, columns),
+        types=decoder.types if decoder else None,
+        expectations=evaluate_expectations(scenario.expectations, columns, times, rows, outcome.event,
+                                           decoder) if outcome.status.ended_cleanly else [],
+        fmus=outcome.fmus,
+        versions={"aotv_cosim": __version__, "python": platform.python_version()},
+    )
     if scenario.outcome is not None:  # classified as a campaign row would be
         from aotv_cosim.mission.outcome_rows import run_outcome
 
-        summary["outcome"] = run_outcome(summary, scenario.outcome)
-    summary["warnings"] += plausibility.run_warnings(scenario, summary)
+        summary.outcome = run_outcome(summary.as_json(), scenario.outcome)
+    summary.warnings += plausibility.run_warnings(scenario, summary)
     return Run(summary, columns, times, rows, decoder)
 
 
 def _output_failed(outcome, exc):
     """Record a result file that could not be written as the run's failure (unless it failed already)."""
-    if outcome.status != "failed":
-        outcome.status, outcome.error, outcome.stop_reason = "failed", str(exc), "output failed"
+    if outcome.status != Status.FAILED:
+        outcome.status, outcome.error, outcome.stop_reason = Status.FAILED, str(exc), "output failed"
         outcome.error_detail = {"component": None, "variable": None, "time": None, "message": exc.cause}
 
 
@@ -197,7 +206,7 @@ def _warnings(scenario, outcome):
                                                    if err is not None else "not estimated (its coarse runs failed)")
                      + f", after {control['attempts']} attempts"
                      for sig, err in control["global_error"].items() if err is None or err > asked[sig]]
-    if outcome.status != "completed" or not scenario.stop_conditions or outcome.event is not None:
+    if outcome.status != Status.COMPLETED or not scenario.stop_conditions or outcome.event is not None:
         return warnings
     conditions = ", ".join(f"{c.signal} changing" if c.threshold is None else
                            f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)

@@ -9,6 +9,7 @@ from aotv_cosim.engine.documents import load_document
 from aotv_cosim.errors import InputError, raise_if_any
 from aotv_cosim.engine.step_control import StepControl, step_control
 from aotv_cosim.paths import regular_file, resolved
+from aotv_cosim.engine.fmu_file import FmuResolver
 from aotv_cosim.engine.system import System, load_system
 from aotv_cosim.engine.ranges import check_dispersion
 from aotv_cosim.engine.capabilities import check_capabilities, default_experiment
@@ -137,9 +138,10 @@ def parse_sets(pairs, origin="--set", file=None) -> dict:
     return values
 
 
-def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario:
+def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: FmuResolver = None) -> Scenario:
     """Load a scenario; `sets` ({'comp.var': value}, from --set), `step`, `start` and `stop`
-    (s, from --step, --start, --stop) override the file.
+    (s, from --step, --start, --stop) override the file. `fmus` gives the wiring's FMU files
+    (`fmu_file.FmuResolver`; None: `fmu.build.built_fmu`, which builds those missing or stale).
 
     With start or stop overridden the run is another experiment: the expectations measured at
     the end, a minimum, a maximum or a time are not checked (they are listed in `skipped`);
@@ -160,8 +162,10 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None) -> Scenario
         raise InputError(f"wiring file {exc.cause.removeprefix('file ')}", file=path, entry="system",
                          fix="give the wiring file's path relative to the scenario") from None
     overrides = dict(doc.get("parameters", {}))
-    system = load_system(system_path, overrides, overrides_file=path) if not sets else \
-        load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)")
+    if fmus is None:
+        from aotv_cosim.fmu.build import built_fmu as fmus
+    system = load_system(system_path, overrides, overrides_file=path, fmus=fmus) if not sets else \
+        load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)", fmus=fmus)
     expectations = [Expectation(e["signal"], e["at"], _expected(e["value"]), e["source"],
                                 e.get("tolerance"), e.get("rel_tolerance"), e.get("note", ""))
                     for e in doc.get("expectations", [])]

@@ -14,12 +14,12 @@ depends on the vehicle's altitude: only chains of same-instant dependencies do.
 import difflib
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from aotv_cosim.engine.documents import check_document, load_document
 from aotv_cosim.errors import AotvError, InputError, raise_if_any
-from aotv_cosim.engine.fmu_file import FmuInfo, Variable, read_fmu, resolve_fmu
+from aotv_cosim.engine.fmu_file import FmuInfo, FmuResolver, Variable, read_fmu, resolve_fmu
 from aotv_cosim.paths import resolved
 from aotv_cosim.engine.ranges import check_range
 from aotv_cosim.engine.variable_types import declared_type_name, enumeration_value, items
@@ -153,11 +153,12 @@ def _a(word: str) -> str:
     return "an" if word[:1].lower() in "aeiou" else "a"
 
 
-def load_system(path, overrides=None, overrides_file=None) -> System:
+def load_system(path, overrides=None, overrides_file=None, *, fmus: FmuResolver) -> System:
     """Load and validate a wiring file; `overrides` {'comp.var': value} take precedence.
 
     overrides_file names where the overrides came from, for error messages. An .ssp archive
     is read into the same document (aotv_cosim.engine.ssp_load) and checked the same way.
+    `fmus` gives the .fmu file of each FMU name or source the wiring refers to (`FmuResolver`).
     """
     path = resolved(path, what="wiring file")
     if path.suffix == ".ssp":
@@ -170,7 +171,7 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
     for name, spec in doc["components"].items():
         entry = f"components.{name}.fmu"
         try:
-            fmu_path = resolve_fmu(spec["fmu"], base, file=path, entry=entry)
+            fmu_path = resolve_fmu(spec["fmu"], base, fmus, file=path, entry=entry)
             info = read_fmu(fmu_path, file=path, entry=entry)
         except AotvError as exc:
             exc.file = exc.file or path
@@ -186,25 +187,9 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
             problems += _check_known(comp, var, path, entry) or check_value(
                 comp.fmu.variables[var], value, file=path, entry=entry, fmu=comp.fmu) or check_range(
                 comp.fmu, var, value, file=path, entry=entry)
-    for signal, value in (overrides or {}).items():
-        entry = f"parameters.{signal}"
-        comp_name, var = signal.split(".", 1) if "." in signal else (signal, "")
-        if comp_name not in components:
-            problems.append(_unknown_component(comp_name, components, overrides_file, entry))
-            continue
-        found = _check_known(components[comp_name], var, overrides_file, entry)
-        problems += found or check_value(components[comp_name].fmu.variables[var], value,
-                                         file=overrides_file, entry=entry,
-                                         fmu=components[comp_name].fmu) or check_range(
-            components[comp_name].fmu, var, value, file=overrides_file, entry=entry)
-        if not found:
-            components[comp_name].parameters[var] = value
-
+    problems += _set_values(components, overrides or {}, overrides_file)
     raise_if_any(problems)
-    for comp in components.values():  # Enumeration items given by name -> their integers
-        comp.parameters = {var: enumeration_value(comp.fmu, var, value)
-                           if comp.fmu.variables[var].type == "Enumeration" else value
-                           for var, value in comp.parameters.items()}
+    _enumerations_as_integers(components)
 
     connections = []
     for k, text in enumerate(doc["connections"]):
@@ -223,6 +208,45 @@ def load_system(path, overrides=None, overrides_file=None) -> System:
     raise_if_any(problems)
     _check_loops(system)
     return system
+
+
+def with_values(system: System, values: dict, file) -> System:
+    """A copy of the loaded `system` with `values` {'comp.var': value} set, checked as
+    `load_system` checks its overrides (`file`: where they came from, for error messages); the
+    wiring file is not read again."""
+    components = {name: replace(comp, parameters=dict(comp.parameters)) for name, comp in system.components.items()}
+    raise_if_any(_set_values(components, values, file))
+    _enumerations_as_integers(components)
+    result = replace(system, components=components, warnings=list(system.warnings))
+    raise_if_any(_check_inputs(result))
+    return result
+
+
+def _set_values(components, values, file) -> list:
+    """Set `values` {'comp.var': value} on `components`; the problems of those that cannot be set."""
+    problems = []
+    for signal, value in values.items():
+        entry = f"parameters.{signal}"
+        comp_name, var = signal.split(".", 1) if "." in signal else (signal, "")
+        if comp_name not in components:
+            problems.append(_unknown_component(comp_name, components, file, entry))
+            continue
+        found = _check_known(components[comp_name], var, file, entry)
+        problems += found or check_value(components[comp_name].fmu.variables[var], value,
+                                         file=file, entry=entry,
+                                         fmu=components[comp_name].fmu) or check_range(
+            components[comp_name].fmu, var, value, file=file, entry=entry)
+        if not found:
+            components[comp_name].parameters[var] = value
+    return problems
+
+
+def _enumerations_as_integers(components) -> None:
+    """Enumeration items given by name -> their integers."""
+    for comp in components.values():
+        comp.parameters = {var: enumeration_value(comp.fmu, var, value)
+                           if comp.fmu.variables[var].type == "Enumeration" else value
+                           for var, value in comp.parameters.items()}
 
 
 def _unknown_component(name, components, file, entry):

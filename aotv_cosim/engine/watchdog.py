@@ -66,12 +66,11 @@ def timeout_error(limit: float, t: float, component=None, file=None) -> StepTime
     """The StepTimeout of a step from `t` (s) that took more than `limit` s (component: the FMU
     that was stepping, when known)."""
     who = f"fmi2DoStep of {component} did not return" if component else "the step did not end"
-    error = StepTimeout(f"step timeout: {who} within {limit:g} s at t = {t:.6g} s", file=file,
-                        entry=component,
-                        fix="the results up to this time are saved; fix the FMU's code, or raise "
-                            "step_timeout (scenario) / --step-timeout if the step is just slow")
-    error.component, error.time, error.variable = component or "master", t, None
-    return error
+    return StepTimeout(f"step timeout: {who} within {limit:g} s at t = {t:.6g} s", file=file,
+                       entry=component,
+                       fix="the results up to this time are saved; fix the FMU's code, or raise "
+                           "step_timeout (scenario) / --step-timeout if the step is just slow",
+                       component=component or "master", time=t)
 
 
 def limited(advance, limit):
@@ -100,7 +99,7 @@ def _stepping(exc):
     """(component, FMU file name) of the FMU whose step the alarm interrupted: the one the master's
     failure names, else the last FMU instance held by a frame of the traceback (an alarm landing in
     the master's own code between two FMU calls), else (None, None)."""
-    if getattr(exc, "component", None):
+    if isinstance(exc, SimulationError) and exc.component:
         return exc.component, exc.file
     from aotv_cosim.engine.fmi_instance import FmuInstance
 

@@ -20,6 +20,7 @@ hosts (`fmu_native`). Finally `fmpy validate` must report no problem.
 """
 
 import ast
+import difflib
 import hashlib
 import io
 import os
@@ -181,6 +182,21 @@ def built_hash(fmu: Path):
             return archive.read(BUILD_INFO).decode().strip()
     except (OSError, KeyError, zipfile.BadZipFile):
         return None
+
+
+def built_fmu(ref) -> Path:
+    """The FMU resolver that builds (`engine.fmu_file.FmuResolver`): the up-to-date .fmu of a
+    name of fmus_src or of a user's FMU source `ref` (a path ending in .py), built into the cache
+    when missing or stale (`ensure_fmu`). InputError for a name fmus_src has not, naming close ones."""
+    if not is_source_path(ref):
+        names = available_fmus()
+        if ref not in names:
+            close = difflib.get_close_matches(ref, names, n=3)
+            hint = f"did you mean {' or '.join(close)}? " if close else ""
+            raise InputError(f"no FMU named {ref!r} in this package",
+                             fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
+                                 f"wiring file) or one of {', '.join(names)}")
+    return ensure_fmu(ref)
 
 
 def ensure_fmu(ref, out_dir=None) -> Path:

@@ -26,6 +26,7 @@ from aotv_cosim.physics import orbit
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 from aotv_cosim.physics.orbit_correction import circularization_corrections
 from aotv_cosim.physics.planar import EXIT_000
+from aotv_cosim.status import Status
 
 OUTCOMES = ("captured", "skip_out", "undershoot", "impact", "failed")
 
@@ -123,9 +124,9 @@ def classify(run: RunRecord, c: CaptureCriteria) -> RunOutcome:
     def result(outcome, reason):
         return RunOutcome(outcome, reason, **metrics)
 
-    if run.status == "impact" or run.min_altitude < 0.0:  # the master stops a run at the ground
+    if run.status == Status.IMPACT or run.min_altitude < 0.0:  # the master stops a run at the ground
         return result("impact", f"altitude below zero (min h = {run.min_altitude:.6g} m)")
-    if run.status != "completed":
+    if run.status != Status.COMPLETED:
         return result("failed", run.error or f"run {run.status}")
     if run.min_altitude < c.floor:
         return result("undershoot", f"altitude {run.min_altitude:.6g} m below the floor {c.floor:.6g} m")

@@ -12,6 +12,7 @@ import tempfile
 from pathlib import Path
 
 from aotv_cosim.errors import InputError
+from aotv_cosim.status import Status
 
 
 def reachable_stop(scenario) -> float:
@@ -24,11 +25,11 @@ def reachable_stop(scenario) -> float:
 
     with tempfile.TemporaryDirectory(prefix="aotv_export_") as tmp:
         summary = run_scenario(scenario, Path(tmp), make_plots=False)
-    if summary["status"] != "completed":
-        raise InputError(f"the scenario's run ends {summary['status']} ({summary.get('error')}), so no stop "
+    if summary.status != Status.COMPLETED:
+        raise InputError(f"the scenario's run ends {summary.status} ({summary.error}), so no stop "
                          "time it reaches can be exported", file=scenario.path, entry="stop",
                          fix="export a scenario whose run completes, or remove its stop conditions")
-    event = summary.get("event")
+    event = summary.event
     if event is None:
         return scenario.stop
     n = math.floor((event["time"] - scenario.start) / scenario.step + 1e-9)

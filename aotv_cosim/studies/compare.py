@@ -23,6 +23,8 @@ import numpy as np
 
 from aotv_cosim.engine.documents import load_document
 from aotv_cosim.errors import InputError
+from aotv_cosim.fmu.build import built_fmu
+from aotv_cosim.status import Status
 from aotv_cosim.physics.planar import EXIT_000
 from aotv_cosim.engine.runner import run_scenario
 from aotv_cosim.engine.scenario import Scenario, StopCondition
@@ -72,7 +74,8 @@ def load_comparison(path) -> Comparison:
 
 def _scenario(comparison: Comparison, label: str) -> Scenario:
     """The run of one law: its wiring with the shared overrides, stopped at the exit crossing."""
-    system = load_system(comparison.laws[label], comparison.parameters, overrides_file=comparison.path)
+    system = load_system(comparison.laws[label], comparison.parameters, overrides_file=comparison.path,
+                         fmus=built_fmu)
     for comp in ("vehicle", "guidance"):
         if comp not in system.components:
             raise InputError(f"the wiring has no component named {comp!r}", file=system.path,
@@ -98,10 +101,10 @@ def _read_series(folder: Path):
 
 
 def summarize(label, fmu, summary, columns, rows, exit_target) -> dict:
-    """One table row (see COLUMNS) from a law's run: its summary.json dict and recorded rows."""
+    """One table row (see COLUMNS) from a law's run: its `engine.summary.RunSummary` and recorded rows."""
     col = {name: rows[:, k] for k, name in enumerate(columns)}
-    event = summary["event"]
-    at_exit = event["values"] if event else {s: summary["final"][s] for s in columns}
+    event = summary.event
+    at_exit = event["values"] if event else {s: summary.final[s] for s in columns}
     hf, vf, gammaf = exit_target
     solve = col.get("guidance.solve_time")
     return {
@@ -133,8 +136,8 @@ def run_comparison(comparison: Comparison, out_dir, progress=None, make_plots=Tr
             progress(label)
         scenario = _scenario(comparison, label)
         summary = run_scenario(scenario, out_dir / label, make_plots=False)
-        if summary["status"] != "completed":
-            raise InputError(f"the run of {label} failed: {summary['error']}", file=comparison.path,
+        if summary.status != Status.COMPLETED:
+            raise InputError(f"the run of {label} failed: {summary.error}", file=comparison.path,
                              entry=f"laws.{label}", fix=f"see {out_dir / label / 'summary.json'}")
         columns, times, rows = _read_series(out_dir / label)
         fmu = scenario.system.components["guidance"].fmu.model_identifier

@@ -29,6 +29,7 @@ from aotv_cosim.guidance import mae, mae_solution  # noqa: E402
 from aotv_cosim.guidance.plane_change_optimal import solve_optimal  # noqa: E402
 from aotv_cosim.physics import mrrv  # noqa: E402
 from aotv_cosim.studies.shipped import scenario  # noqa: E402
+from aotv_cosim.status import Status  # noqa: E402
 
 SCENARIO = scenario("plane_change_mae_guided.json")
 ENTRY = mae.State(mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
@@ -127,10 +128,10 @@ def run_guided(out: Path, scenario_path: Path = SCENARIO):
 
     run_dir = out / "guided"
     summary = run_scenario(load_scenario(scenario_path), run_dir, make_plots=False)
-    if summary["status"] != "completed":
-        raise RuntimeError(f"guided run failed: {summary['error']}")
+    if summary.status != Status.COMPLETED:
+        raise RuntimeError(f"guided run failed: {summary.error}")
     data = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True, deletechars="")
-    return {name: data[name] for name in data.dtype.names}, summary["event"]["values"]["vehicle.v"]
+    return {name: data[name] for name in data.dtype.names}, summary.event["values"]["vehicle.v"]
 
 
 def guided_figures(out: Path, guided: dict, v_f: float, opt):

@@ -53,7 +53,7 @@ def table_8_1(scenarios: Path, progress=None) -> list:
             progress(path.stem)
         scenario = load_scenario(path)
         k_ball = scenario.system.components["guidance"].parameters["K_ball"]
-        checks = {e["signal"]: e for e in simulate(scenario).summary["expectations"]}
+        checks = {e["signal"]: e for e in simulate(scenario).summary.expectations}
         for signal, symbol, unit in QUANTITIES:
             e = checks[signal]
             measured = e["measured"] if e["measured"] is not None else math.nan

@@ -1,0 +1,43 @@
+"""What a campaign worker loads its scenario from (`ScenarioRef`): sent to every worker process
+or Dask task in place of the loaded scenario, which holds FMU files and is not meant to travel."""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping, Optional
+
+from aotv_cosim.engine.scenario import Scenario, load_scenario
+
+
+@dataclass(frozen=True)
+class ScenarioRef:
+    """A scenario file with the overrides a campaign gives it; hashable, so a worker keeps one
+    `worker.Runner` per reference."""
+
+    path: str
+    """The scenario file (absolute, so a worker in another folder finds it)."""
+    sets: tuple = ()
+    """The --set overrides as ('comp.var', value) pairs, in the order given."""
+    start: Optional[float] = None
+    """--start, s (None: the scenario's)."""
+    stop: Optional[float] = None
+    """--stop, s (None: the scenario's)."""
+
+    @classmethod
+    def of(cls, path, sets: Optional[Mapping] = None, start: Optional[float] = None,
+           stop: Optional[float] = None) -> "ScenarioRef":
+        """The reference of scenario file `path` with --set values `sets` ({'comp.var': value})."""
+        return cls(str(path), tuple((sets or {}).items()), start, stop)
+
+    @property
+    def overrides(self) -> dict:
+        """The --set values as {'comp.var': value}."""
+        return dict(self.sets)
+
+    @property
+    def times_overridden(self) -> bool:
+        """True when --start or --stop is given."""
+        return self.start is not None or self.stop is not None
+
+    def load(self) -> Scenario:
+        """The scenario with the overrides applied."""
+        return load_scenario(Path(self.path), self.overrides or None, start=self.start, stop=self.stop)
