@@ -229,8 +229,10 @@ def validate(files):
     from aotv_cosim.studies.compare import load_comparison
     from aotv_cosim.engine.scenario import load_scenario
     from aotv_cosim.engine.system import load_system
+    from aotv_cosim.fmu.build import built_fmu
 
-    loaders = {"wiring": load_system, "scenario": load_scenario, "compare": load_comparison}
+    loaders = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
+               "compare": load_comparison}
 
     def body():
         for f in files:

@@ -17,6 +17,7 @@ from aotv_cosim.engine.documents import load_document
 from aotv_cosim.errors import AotvError
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.engine.system import load_system
+from aotv_cosim.fmu.build import built_fmu
 from conftest import NOMINAL, WIRING
 
 SCENARIO = json.loads(NOMINAL.read_text())
@@ -89,7 +90,11 @@ def _fuzz(strategy, check, budget):
     run()
 
 
-LOADERS = {"scenario": load_scenario, "wiring": load_system,
+def load_wiring(path):
+    return load_system(path, fmus=built_fmu)
+
+
+LOADERS = {"scenario": load_scenario, "wiring": load_wiring,
            "scenario document": lambda p: load_document(p, "scenario"),
            "wiring document": lambda p: load_document(p, "wiring")}
 
@@ -113,7 +118,7 @@ def test_mutated_scenario(budget):
 
 @pytest.mark.parametrize("budget", BUDGETS)
 def test_mutated_wiring(budget):
-    _fuzz(mutations(WIRING_DOC), lambda doc: _loads_or_own_error(load_system, json.dumps(doc)), budget)
+    _fuzz(mutations(WIRING_DOC), lambda doc: _loads_or_own_error(load_wiring, json.dumps(doc)), budget)
 
 
 @pytest.mark.parametrize("budget", BUDGETS)
@@ -145,7 +150,7 @@ def test_random_paths(budget):
     def check(text):
         wiring = dict(WIRING_DOC, components=dict(WIRING_DOC["components"],
                                                   atmosphere={"fmu": text + ".fmu"}))
-        _loads_or_own_error(load_system, json.dumps(wiring))
+        _loads_or_own_error(load_wiring, json.dumps(wiring))
         _loads_or_own_error(load_scenario, json.dumps(dict(SCENARIO, system=text)))
 
     _fuzz(paths, check, budget)
