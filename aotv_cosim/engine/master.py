@@ -38,6 +38,7 @@ import ctypes
 import math
 import time as clock
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -59,18 +60,23 @@ class Outcome:
 
     status: Status = Status.COMPLETED
     stop_reason: str = "stop time reached"
-    event: dict = None
-    error: str = None
-    error_detail: dict = None
+    event: Optional[dict] = None
+    """The located stop-condition crossing (`rows.Rows.event`), or None."""
+    error: Optional[str] = None
+    error_detail: Optional[dict] = None
+    """The failure's component, variable, time (s) and message, or None."""
     steps: int = 0
     wall_time: float = 0.0
+    """Wall-clock time of the whole run, s."""
     init_time: float = 0.0
+    """Wall-clock time of instantiation and initialization, s."""
     loop_time: float = 0.0
+    """Wall-clock time of the stepping loop, s."""
     fmus: dict = field(default_factory=dict)
-    terminate_request: dict = None
+    terminate_request: Optional[dict] = None
     """An FMU that asked to end the run: its component, the last communication point every
     component reached and the FMU's fmi2LastSuccessfulTime (s)."""
-    step_control: dict = None
+    step_control: Optional[dict] = None
     """Error-controlled runs (`engine.step_doubling`): steps accepted, rejected, kept at the min
     bound, sweeps made, smallest and largest step (s)."""
 
