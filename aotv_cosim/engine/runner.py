@@ -89,9 +89,9 @@ def _write_into(scenario, out_dir, progress, make_plots, formats):
 def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
     """Run the scenario; nothing is written but what the series object does with the rows.
 
-    open_series(columns, index[, decoder]) makes the master's record callback (a `SeriesTable`, kept in
-    memory, or a `TimeSeriesWriter`) once the buffer layout `index` is known; it needs `close()`
-    and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred (`interrupts`): a signal
+    open_series(columns, index[, decoder]) makes the series object (a `SeriesTable`, kept in
+    memory, or a `TimeSeriesWriter`) that is called with every chunk of rows once the buffer
+    layout `index` is known; it needs `close()` and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred (`interrupts`): a signal
     ends the run before its next step, or, arriving after the last step, still marks it
     interrupted."""
     with interrupts.deferred():
