@@ -312,9 +312,9 @@ def _write_scorecard(out, cards, units):
 def _write_rows_csv(path, rows, names):
     import csv
 
-    from aotv_cosim.campaigns.store import _cell  # the campaign rows' own cell format
+    from aotv_cosim.campaigns.store import csv_cell  # the campaign rows' own cell format
 
     with open(path, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(names)
-        w.writerows([[_cell(n, r[n]) for n in names] for r in rows])
+        w.writerows([[csv_cell(n, r[n]) for n in names] for r in rows])

@@ -17,7 +17,9 @@ TEXT = ("law", "status", "error", "outcome", "outcome.reason")
 INTEGER = ("run", "steps")
 
 
-def _cell(name, value):
+def csv_cell(name: str, value) -> str:
+    """A row value as rows.csv writes it: text as it is, run and steps as integers (empty for
+    none), every other number by repr (exact)."""
     if name in TEXT:
         return value
     if name in INTEGER:
@@ -87,7 +89,7 @@ class RowStore:
             writer = csv.writer(f, lineterminator="\n")
             writer.writerow(self.columns)
             for row in rows:
-                writer.writerow([_cell(n, row[n]) for n in self.columns])
+                writer.writerow([csv_cell(n, row[n]) for n in self.columns])
         os.replace(tmp, path)
 
     def done(self) -> set:
@@ -96,7 +98,7 @@ class RowStore:
     def add(self, row: dict):
         """Append one finished run (flushed at once: an interruption keeps it)."""
         self.rows[row["run"]] = row
-        self.writer.writerow([_cell(n, row[n]) for n in self.columns])
+        self.writer.writerow([csv_cell(n, row[n]) for n in self.columns])
         self.file.flush()
 
     def close(self) -> list:

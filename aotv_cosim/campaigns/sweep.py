@@ -150,9 +150,9 @@ def run_sweep(scenario_path, grids, out_dir, workers=1, sets=None, progress=True
 def _write_csv(path, rows, names, units):
     import csv
 
-    from aotv_cosim.campaigns.store import _cell
+    from aotv_cosim.campaigns.store import csv_cell
 
     with open(path, "w", newline="") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow([f"{n} [{units[n]}]" if units.get(n) else n for n in names])
-        writer.writerows([[_cell(n, r[n]) for n in names] for r in rows])
+        writer.writerows([[csv_cell(n, r[n]) for n in names] for r in rows])
