@@ -1,9 +1,12 @@
 """Performance targets of the package, each measured and compared with its target.
 
     python bench/run.py [--repeats 5] [--mc-runs 1000] [--eff-runs 200] [--skip libcosim,montecarlo]
+    python bench/run.py --quick      # every section, fewer repeats and runs: under about 3 minutes
 
 Medians of `--repeats` runs; ratios are taken against baselines run in the same process,
-interleaved with the measured runs. Definitions (docs/performance.md):
+interleaved with the measured runs. The first line names the machine (CPU model, cores, load
+average at the start); the last block lists the ratios taken in this run, which move far less
+with the machine and its load than the absolute times. Definitions (docs/performance.md):
 
 1. Master overhead per communication step = the master's stepping wall time minus the time
    spent inside the FMI calls it makes (fmi2DoStep, fmi2GetReal, fmi2SetReal, each timed in the
@@ -21,6 +24,8 @@ interleaved with the measured runs. Definitions (docs/performance.md):
 4. Monte Carlo: a 1000-run campaign on 2 local workers (<= 10 s), CPU per run (<= 15 ms),
    parallel efficiency 1 -> 2 workers (>= 85 %).
 5. Guidance compute: median solve time of the predictive law and of the MAE re-solve.
+6. Campaign CPU per run of every law of the seed-000 benchmark (scenarios/benchmark_seed000), one
+   process, FMUs reused (bench/bench_campaign_laws.py), and its ratio to the time-linear law's.
 """
 
 import argparse
@@ -34,6 +39,8 @@ from types import SimpleNamespace
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
+
+from timing import machine  # noqa: E402
 
 from aotv_cosim.engine.master import Master  # noqa: E402
 from aotv_cosim.studies.reference import reference_run  # noqa: E402
@@ -124,6 +131,10 @@ def report(name, measured, target, ok, unit=""):
     print(f"  {name:<58} {measured:>12} {unit:<8} target {target:<14} {'PASS' if ok else 'MISS'}")
 
 
+RATIOS = {}
+"""Ratios taken in this run, {name: value}, printed at the end (`print_ratios`)."""
+
+
 def target_overhead(repeats):
     from bench_master import naive_us_per_step
 
@@ -141,6 +152,8 @@ def target_overhead(repeats):
            "us/step")
     print(f"     CPU per step: inside the FMI calls {statistics.median(inside):.1f} us; naive FMPy loop "
           f"{statistics.median(naive):.1f} us (ratio master/naive {whole / statistics.median(naive):.2f})")
+    RATIOS["master / naive FMPy loop (getReal/setReal/doStep per connection), same FMUs, CPU per step"] = \
+        whole / statistics.median(naive)
     return o
 
 
@@ -187,6 +200,12 @@ def target_wrapper(repeats):
     for name in ("master lean / stock", "master / libcosim, stock FMUs", "master / libcosim, lean FMUs",
                  "master lean / libcosim stock"):
         print(f"     {name}: {speedup[name]:.3f}")
+    RATIOS["master / libcosim, same exported SSP and (lean) FMUs, stepping CPU per step"] = \
+        speedup["master / libcosim, lean FMUs"]
+    RATIOS["master / libcosim, same exported SSP and stock FMUs, stepping CPU per step"] = \
+        speedup["master / libcosim, stock FMUs"]
+    RATIOS["libcosim with lean-wrapper FMUs / with stock-wrapper FMUs, stepping CPU per step"] = \
+        1.0 / speedup["libcosim stock / lean"]
     print("     " + ", ".join(f"{engine} {w} {values['cpu']:.1f}" for (engine, w), values in med.items())
           + " us/step")
 
@@ -289,17 +308,53 @@ def target_guidance(repeats):
     report("MAE re-solve, warm-started (seed-001 entry, moved state)", f"{t * 1e3:.1f}", "<= 50", t <= 0.05, "ms")
 
 
+def target_laws(repeats, batch):
+    """Campaign CPU per run of every seed-000 benchmark law and its ratio to the time-linear law's."""
+    from bench_campaign_laws import LAWS, REFERENCE_LAW, in_process_ms_per_run
+
+    print(f"6. campaign CPU per run of each law of {LAWS.name} (its dispersion set), one process, FMUs "
+          f"reused: median of {repeats} batches of {batch} runs, first run left out")
+    paths = sorted(LAWS.glob("*.json"), key=lambda p: (p.stem != REFERENCE_LAW, p.stem))
+    reference = None
+    for path in paths:
+        ms = in_process_ms_per_run(path, repeats, batch)
+        reference = reference or ms
+        print(f"     {path.stem:<22} {ms:8.1f} ms/run   x {ms / reference:.2f} of {REFERENCE_LAW}")
+        if path.stem != REFERENCE_LAW:
+            RATIOS[f"campaign CPU per run, {path.stem} / {REFERENCE_LAW}"] = ms / reference
+
+
+def print_ratios():
+    print("ratios taken in this run (machine-independent, unlike the absolute times above):")
+    for name, value in RATIOS.items():
+        print(f"  {name:<92} {value:7.3f}")
+
+
+QUICK = {"repeats": 2, "mc_runs": 100, "eff_runs": 40, "law_repeats": 1, "law_batch": 3}
+"""--quick: every section in under about 3 minutes on 2 cores (its figures noisier than a full run's)."""
+FULL = {"repeats": 5, "mc_runs": 1000, "eff_runs": 200, "law_repeats": 3, "law_batch": 10}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--mc-runs", type=int, default=1000)
-    parser.add_argument("--eff-runs", type=int, default=200)
-    parser.add_argument("--skip", default="", help="comma-separated: overhead,libcosim,accuracy,montecarlo,guidance")
+    parser.add_argument("--quick", action="store_true",
+                        help="fewer repeats and runs (" + ", ".join(f"{k} {v}" for k, v in QUICK.items()) + ")")
+    parser.add_argument("--repeats", type=int)
+    parser.add_argument("--mc-runs", type=int)
+    parser.add_argument("--eff-runs", type=int)
+    parser.add_argument("--law-repeats", type=int, help="batches per law in section 6")
+    parser.add_argument("--law-batch", type=int, help="runs per batch in section 6")
+    parser.add_argument("--skip", default="",
+                        help="comma-separated: overhead,libcosim,accuracy,montecarlo,guidance,laws")
     args = parser.parse_args()
+    for name, value in (QUICK if args.quick else FULL).items():
+        if getattr(args, name) is None:
+            setattr(args, name, value)
     skip = set(filter(None, args.skip.split(",")))
     load = os.getloadavg()[0]
-    print(f"aotv-cosim performance targets (median of {args.repeats} runs); {os.cpu_count()} cores, "
-          f"load average {load:.1f} at the start" + (": timings inflated by other work" if load > 1.5 else ""))
+    print(f"machine: {machine()}" + (": timings inflated by other work" if load > 1.5 else ""))
+    print(f"aotv-cosim performance targets (median of {args.repeats} runs" + (", --quick" if args.quick else "")
+          + ")")
     if "overhead" not in skip:
         target_overhead(args.repeats)
     if "libcosim" not in skip:
@@ -310,6 +365,9 @@ def main():
         target_montecarlo(args.mc_runs, args.eff_runs, args.repeats)
     if "guidance" not in skip:
         target_guidance(args.repeats)
+    if "laws" not in skip:
+        target_laws(args.law_repeats, args.law_batch)
+    print_ratios()
 
 
 if __name__ == "__main__":

@@ -13,3 +13,21 @@ def median_seconds(call, repeats, clock=time.perf_counter):
         call()
         samples.append(clock() - start)
     return statistics.median(samples)
+
+
+def machine() -> str:
+    """The machine a bench runs on, for its first line: CPU model (/proc/cpuinfo, else the
+    platform's name), cores, Python version and the 1-minute load average now (timings from a
+    machine whose load average exceeds its cores are inflated by other work)."""
+    import os
+    import platform
+
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as info:
+            model = next((line.split(":", 1)[1].strip() for line in info if line.startswith("model name")),
+                         model)
+    except OSError:
+        pass
+    return (f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+            f"load average {os.getloadavg()[0]:.2f} at the start")

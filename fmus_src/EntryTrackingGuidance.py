@@ -100,8 +100,8 @@ class EntryTrackingGuidance(AotvSlave):
         return self.integrals + 0.5 * (err_last + self._errors(x, e)) * (e - e_last)
 
     def _values(self):
-        key = tuple(getattr(self, n) for n in STATE)
-        if key == self._key:
+        """Every output by name, computed once per `revision` (17 outputs read them)."""
+        if self._key == self.revision:
             return self._out
         x, e = self._state()
         x_ref = self.reference.state(e)
@@ -122,7 +122,7 @@ class EntryTrackingGuidance(AotvSlave):
             "h_ref": h_ref, "mach_ref": entry.mach(h_ref, float(entry.speed(x_ref[0], e))),
             "drag_ref": float(drag),
         }
-        self._key = key
+        self._key = self.revision
         return self._out
 
     def _commit(self):

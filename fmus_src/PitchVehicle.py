@@ -69,20 +69,28 @@ class PitchVehicle(AotvSlave):
         self.xi = 0.0
         self.settle_time = 0.0
         self.rates = sp.BackwardRates(self.rate_spacing)
+        self._coeffs_at = (-1, None)
 
     def _aero(self):
         return sp.MomentDerivatives(self.cm_alpha, self.cm_alphadot, self.cm_q, self.cm_de_0,
                                     self.cm_de_1)
 
     def _coeffs(self):
-        planet = sp.Planet(self.R_e, self.g_s, sp.PLANET.rho_s, self.scale_height)
-        return sp.coefficients(self.rho, self.h, self.v, self.gamma, self.alpha0,
-                               self.rates.rates(), self._aero(), planet)
+        """The coefficients at the current condition and rate history, computed once per `revision`
+        (do_step and five outputs use them)."""
+        revision, coeffs = self._coeffs_at
+        if revision != self.revision:
+            planet = sp.Planet(self.R_e, self.g_s, sp.PLANET.rho_s, self.scale_height)
+            coeffs = sp.coefficients(self.rho, self.h, self.v, self.gamma, self.alpha0,
+                                     self.rates.rates(), self._aero(), planet)
+            self._coeffs_at = (self.revision, coeffs)
+        return coeffs
 
     def do_step(self, current_time, step_size):
         if self.step_refused():  # V = 0: the coefficients divide by V
             return False
         self.rates.add(current_time, self.v, self.gamma, self.gamma + self.alpha0)
+        self.revision += 1  # the rate history may have changed: the coefficients with it
         c = self._coeffs()
         self.x = sp.advance_pitch(*self.x, step_size, self.v, c, self.delta_e, self.max_substep)
         self.xi += self.v * step_size / sp.GENERIC.L

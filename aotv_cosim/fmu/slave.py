@@ -371,14 +371,19 @@ class AotvSlave(Fmi2Slave):
         if self._undefined:
             undefined = self._undefined
             return [0.0 if vr in undefined else getters[vr]() for vr in vrs]
+        if len(vrs) == 1:  # most connections read one value: no comprehension frame
+            return [getters[vrs[0]]()]
         return [getters[vr]() for vr in vrs]
 
     def set_real(self, vrs, values):
         """Store the values in the instance dict; the range check is left to the next get or
         step, and made only when an input with a declared range was set."""
         state, names = self.__dict__, self._names
-        for vr, value in zip(vrs, values):
-            state[names[vr]] = value
+        if len(vrs) == 1:  # most connections set one value: no loop
+            state[names[vrs[0]]] = values[0]
+        else:
+            for vr, value in zip(vrs, values):
+                state[names[vr]] = value
         self.revision += 1
         if self._inputs_checked and not self._ranged_vrs.isdisjoint(vrs):
             self._inputs_checked = False

@@ -115,6 +115,7 @@ class VehicleSlave(AotvSlave):
         self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
         self.heat_load = 0.0
         self._forces = (-1, None)
+        self._qdot = (-1, None)
 
     def start_state(self):
         """The initial state of the current parameters (h0, v0, ..., R_e may be set during
@@ -147,8 +148,14 @@ class VehicleSlave(AotvSlave):
         return forces
 
     def _heating(self):
-        return aero.stagnation_heating_rate(self.rho, self.x[3], self.k_q, self.q_rho_exp,
-                                            self.q_v_exp, self.nose_radius)
+        """Stagnation heating rate (W/m^2) at the current state and density, computed once per
+        `revision`: the end of a step's heat-load trapezoid is the qdot read after it."""
+        revision, qdot = self._qdot
+        if revision != self.revision:
+            qdot = aero.stagnation_heating_rate(self.rho, self.x[3], self.k_q, self.q_rho_exp,
+                                                self.q_v_exp, self.nose_radius)
+            self._qdot = (self.revision, qdot)
+        return qdot
 
     def _bound(self):
         return 0.5 * self.x[3] ** 2 < self.mu / self.x[0]

@@ -107,25 +107,47 @@ def rk4_step(x, dt, args):
 def _rk4_planar(x, dt, rho, lift_acc, cl_s_m, cd_s_m, gravity_model, g0, mu):
     """`rk4_step` in the plane phi = psi = sigma = 0, which it never leaves (their rates are 0):
     r, theta, v, gamma by the same operations as `_rates`' planar branch, so the same results to
-    the bit, without the two idle states."""
+    the bit, without the two idle states. The four stages are written out (no call, no tuple per
+    stage: the vehicle FMU's innermost loop); each computes, at (r, v, gamma),
+        q = rho v^2 / 2,  g,  r' = v sin(gamma),  theta' = v cos(gamma) / r,
+        v' = -q cd_s_m - g sin(gamma),  gamma' = (lift_acc + q cl_s_m - (g - v^2/r) cos(gamma)) / v.
+    phi and psi stay 0.0 (phi + 0.0 is +0.0 for phi = +-0.0)."""
+    cos, sin = math.cos, math.sin
+    half_rho = 0.5 * rho  # 0.5 * rho * v * v evaluates (0.5 * rho) first
+    constant_g = gravity_model == GRAVITY_CONSTANT
     half = 0.5 * dt
+    r, _theta, _phi, v, gamma, _psi = x
 
-    def rates(r, v, gamma):
-        q_over_m = 0.5 * rho * v * v
-        g = g0 if gravity_model == GRAVITY_CONSTANT else mu / (r * r)
-        cg, sg = math.cos(gamma), math.sin(gamma)
-        return (v * sg, v * cg / r, -(q_over_m * cd_s_m) - g * sg,
-                (lift_acc + q_over_m * cl_s_m - (g - v * (v / r)) * cg) / v)
+    q = half_rho * v * v
+    g = g0 if constant_g else mu / (r * r)
+    cg, sg = cos(gamma), sin(gamma)
+    a0, a1 = v * sg, v * cg / r
+    a3, a4 = -(q * cd_s_m) - g * sg, (lift_acc + q * cl_s_m - (g - v * (v / r)) * cg) / v
 
-    x0, x1, x2, x3, x4, x5 = x
-    a0, a1, a3, a4 = rates(x0, x3, x4)
-    b0, b1, b3, b4 = rates(x0 + half * a0, x3 + half * a3, x4 + half * a4)
-    c0, c1, c3, c4 = rates(x0 + half * b0, x3 + half * b3, x4 + half * b4)
-    d0, d1, d3, d4 = rates(x0 + dt * c0, x3 + dt * c3, x4 + dt * c4)
+    r1, v1, gamma1 = r + half * a0, v + half * a3, gamma + half * a4
+    q = half_rho * v1 * v1
+    g = g0 if constant_g else mu / (r1 * r1)
+    cg, sg = cos(gamma1), sin(gamma1)
+    b0, b1 = v1 * sg, v1 * cg / r1
+    b3, b4 = -(q * cd_s_m) - g * sg, (lift_acc + q * cl_s_m - (g - v1 * (v1 / r1)) * cg) / v1
+
+    r1, v1, gamma1 = r + half * b0, v + half * b3, gamma + half * b4
+    q = half_rho * v1 * v1
+    g = g0 if constant_g else mu / (r1 * r1)
+    cg, sg = cos(gamma1), sin(gamma1)
+    c0, c1 = v1 * sg, v1 * cg / r1
+    c3, c4 = -(q * cd_s_m) - g * sg, (lift_acc + q * cl_s_m - (g - v1 * (v1 / r1)) * cg) / v1
+
+    r1, v1, gamma1 = r + dt * c0, v + dt * c3, gamma + dt * c4
+    q = half_rho * v1 * v1
+    g = g0 if constant_g else mu / (r1 * r1)
+    cg, sg = cos(gamma1), sin(gamma1)
+    d0, d1 = v1 * sg, v1 * cg / r1
+    d3, d4 = -(q * cd_s_m) - g * sg, (lift_acc + q * cl_s_m - (g - v1 * (v1 / r1)) * cg) / v1
+
     s = dt / 6.0
-    return [x0 + s * (a0 + 2.0 * b0 + 2.0 * c0 + d0), x1 + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1),
-            x2 + 0.0, x3 + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3),
-            x4 + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4), x5 + 0.0]
+    return [r + s * (a0 + 2.0 * b0 + 2.0 * c0 + d0), x[1] + s * (a1 + 2.0 * b1 + 2.0 * c1 + d1), 0.0,
+            v + s * (a3 + 2.0 * b3 + 2.0 * c3 + d3), gamma + s * (a4 + 2.0 * b4 + 2.0 * c4 + d4), 0.0]
 
 
 def integrate(x, dt, max_substep, args):
