@@ -98,9 +98,14 @@ def test_a_failing_fmu_fails_the_run_as_on_the_c_path(kind, tmp_path, wiring_doc
     assert c_csv == d_csv
 
 
+def shipped_scenarios() -> list:
+    """The single-run scenarios of scenarios/ (not the compare, Monte Carlo or benchmark files)."""
+    return sorted(p.name for p in SCENARIOS.glob("*.json")
+                  if "system" in json.loads(p.read_text()) and "dispersions" not in json.loads(p.read_text()))
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("name", sorted(p.name for p in SCENARIOS.glob("*.json")
-                                        if "montecarlo" not in p.name))
+@pytest.mark.parametrize("name", shipped_scenarios())
 def test_every_shipped_scenario_is_the_same_on_both_paths(name, tmp_path):
     c, d, c_csv, d_csv = both_paths(SCENARIOS / name, tmp_path)
     assert (c["status"], c["stop_reason"], c_csv) == (d["status"], d["stop_reason"], d_csv)
@@ -158,3 +163,25 @@ def test_the_watchdog_ends_a_hung_direct_step(tmp_path):
     outcome = master.run()
     assert time.monotonic() - t0 < 5
     assert outcome.status == "failed" and "step timeout" in outcome.error and "guidance" in outcome.error
+
+
+def test_dispersed_runs_of_a_benchmark_set_are_the_same_on_both_paths():
+    """Two draws of the seed-000 robust benchmark (extrapolated inputs, exit located) run one after
+    the other on pooled instances (the second on reset FMUs, as a campaign worker does)."""
+    from aotv_cosim.campaigns.draws import draw
+
+    scenario = load_scenario(SCENARIOS / "benchmark_seed000" / "robust.json")
+    recorded = {}
+    for calls in ("c", "direct"):
+        pool, runs = {}, []
+        for k in range(2):
+            rows = []
+            master = Master(scenario, lambda t, r: rows.extend(zip(t, r)), overrides=draw(scenario.dispersions, 0, k),
+                            pool=pool, fmi_calls=calls)
+            outcome = master.run()
+            runs.append((outcome.status, outcome.stop_reason, outcome.event, [(t, bytes(r)) for t, r in rows]))
+        for inst in pool.values():
+            inst.close()
+        recorded[calls] = runs
+    assert recorded["c"][0][0] == "completed" and recorded["c"][0][2] is not None
+    assert recorded["c"] == recorded["direct"]

@@ -223,7 +223,8 @@ class Coupling:
                  for p in self.plans]
 
         def jacobi_sweep(t, step, t_new):
-            t, step = float(t), float(step)
+            if type(t) is not float or type(step) is not float:  # the C calls' doubles
+                t, step = float(t), float(step)
             for do_step, _read in steps:
                 do_step(t, step, t_new)
             for _step, read in steps:
@@ -232,7 +233,8 @@ class Coupling:
                 call(t_new)
 
         def gauss_seidel(t, step, t_new):
-            t, step = float(t), float(step)
+            if type(t) is not float or type(step) is not float:  # the C calls' doubles
+                t, step = float(t), float(step)
             for one, _ in steps:
                 one(t, step, t_new)
             for call in finish:
@@ -276,21 +278,30 @@ def _c_step(p, values, jacobi):
 
 
 def _direct_step(p, values, jacobi):
-    """`_c_step` for a `DirectInstance`: the same calls with Python lists of floats."""
+    """`_c_step` for a `DirectInstance`: the same calls with Python lists of floats, the slave's
+    methods called here (`DirectInstance.step`, `get_reals`, `set_reals` inlined)."""
     inst = p.inst
     n_out = p.n_out if jacobi else p.n_fresh_out
-    first = p.offset
+    first, end = p.offset, p.offset + n_out
     ovrs = list(p.out_vrs)[:n_out]
     fvrs, nf = list(p.fresh.vrs)[:p.fresh.n], p.fresh.n
     positions = tuple(p.fresh.positions)
     lo = positions[0] if positions else 0
+    hi = lo + nf
     aliased = not p.fresh.pairs  # consecutive buffer positions: one slice of the buffer
     before, after = _calls(p.before, values), _calls(p.after, values)
-    set_reals, get_reals, do_step = inst.set_reals, inst.get_reals, inst.step
+    slave_set, slave_step, slave_get = inst.set_real_method, inst.step_method, inst.get_real_method
+    queue, drain, stepped, reals, failed = inst.log_queue, inst.drain_log, inst.stepped, inst.reals, inst.failed
 
     def read(t_new):
         if n_out:
-            values[first:first + n_out] = get_reals(ovrs, n_out, t_new)
+            try:
+                out = slave_get(ovrs)
+                values[first:end] = out if type(out) is list and len(out) == n_out else reals(out, n_out)
+            except BaseException as exc:
+                raise failed("[getReal]", "fmi2GetReal", exc, t_new) from None
+            if queue:
+                drain()
         for call in after:
             call(t_new)
 
@@ -299,8 +310,22 @@ def _direct_step(p, values, jacobi):
             for call in before:
                 call(t_new)
             if nf:
-                set_reals(fvrs, values[lo:lo + nf] if aliased else [values[j] for j in positions], t)
-        do_step(t, h)
+                try:
+                    slave_set(fvrs, values[lo:hi] if aliased else [values[j] for j in positions])
+                except BaseException as exc:
+                    raise failed("[setReal]", "fmi2SetReal", exc, t) from None
+                if queue:
+                    drain()
+        try:
+            result = slave_step(t, h)
+        except BaseException as exc:
+            raise inst.refused_step(t, inst.fatal("[doStep]", exc)) from None
+        if result is True and not queue:
+            inst.last_successful_time = t + h
+        else:
+            status = stepped(result, t, h)
+            if status:
+                raise inst.refused_step(t, status)
         if not jacobi:
             read(t_new)
     return step, read
@@ -332,8 +357,17 @@ def _direct_call(is_get, inst, call, values):
     aliased = positions == tuple(range(lo, lo + n))
     get_reals, set_reals = inst.get_reals, inst.set_reals
     if is_get and aliased:
+        slave_get, queue, drain, reals, failed = (inst.get_real_method, inst.log_queue, inst.drain_log,
+                                                  inst.reals, inst.failed)
+
         def get_slice(t):
-            values[lo:lo + n] = get_reals(vrs, n, t)
+            try:
+                out = slave_get(vrs)
+                values[lo:lo + n] = out if type(out) is list and len(out) == n else reals(out, n)
+            except BaseException as exc:
+                raise failed("[getReal]", "fmi2GetReal", exc, t) from None
+            if queue:
+                drain()
         return get_slice
     if is_get:
         def get_scattered(t):

@@ -114,7 +114,7 @@ class DirectInstance(FmuInstance):
         self.cls, self.resources = cls, resources or ""
         self.component = None
         self.last_successful_time, self.wants_to_terminate = math.nan, False
-        self.slave, self._queue = None, None
+        self.slave, self.log_queue = None, None
         self._checked("instantiate", self._plain("[fmi2Instantiate]", self._create))
         self.raw = {(kind, type_): (self._getter_c if kind == "Get" else self._setter_c)(type_.lower())
                     for kind in ("Get", "Set") for type_ in ("Real", "Integer", "Boolean", "String")}
@@ -132,15 +132,15 @@ class DirectInstance(FmuInstance):
         """A new slave object, its log queue and bound methods (instantiation and fmi2Reset)."""
         slave = self.cls(instance_name=self.name, resources=self.resources, logger=id(self), visible=0)
         queue = slave._get_log_queue()
-        self.slave, self._queue = slave, queue
+        self.slave, self.log_queue = slave, queue
         self._methods = {f"{kind}_{type_}": getattr(slave, f"{kind}_{type_}")
                          for kind in ("get", "set") for type_ in ("real", "integer", "boolean", "string")}
         self.step_method = slave.do_step
         self.get_real_method, self.set_real_method = slave.get_real, slave.set_real
 
-    def _drain(self):
+    def drain_log(self):
         """Move the slave's queued log messages to `messages` and empty its queue."""
-        queue = self._queue
+        queue = self.log_queue
         if type(queue) is not list or not queue:
             return
         for item in queue:
@@ -151,9 +151,9 @@ class DirectInstance(FmuInstance):
             self.messages.append((STATUS.get(status, str(status)), text.strip()))
         del queue[:]
 
-    def _fatal(self, what: str, exc: BaseException) -> int:
+    def fatal(self, what: str, exc: BaseException) -> int:
         """fmi2Fatal for exception `exc` raised in call `what`, logged as the wrapper logs it."""
-        self._drain()
+        self.drain_log()
         try:
             text = repr(exc)
         except Exception:
@@ -165,8 +165,8 @@ class DirectInstance(FmuInstance):
         try:
             function(*args)
         except BaseException as exc:
-            return self._fatal(what, exc)
-        self._drain()
+            return self.fatal(what, exc)
+        self.drain_log()
         return 0
 
     def _checked(self, call: str, status: int):
@@ -183,13 +183,18 @@ class DirectInstance(FmuInstance):
         try:
             result = self.step_method(t, h)
         except BaseException as exc:
-            return self._fatal("[doStep]", exc)
+            return self.fatal("[doStep]", exc)
+        return self.stepped(result, t, h)
+
+    def stepped(self, result, t: float, h: float) -> int:
+        """The status of a do_step from t over h (s) that returned `result` (0 ok, 2 discard),
+        its log moved to `messages`."""
         try:
             done = bool(result)
         except Exception:  # the wrapper: an error in the truth test counts as done
             done = True
-        if self._queue:
-            self._drain()
+        if self.log_queue:
+            self.drain_log()
         if done:
             self.last_successful_time = t + h
             return 0
@@ -205,29 +210,38 @@ class DirectInstance(FmuInstance):
     def get_reals(self, vrs: list, n: int, t: float) -> list:
         """The n Real values of value references `vrs` (a list), as the slave returns them."""
         try:
-            values = self.get_real_method(vrs)
-            if type(values) is not list:
-                values = list(values)
-            if len(values) != n:
-                if len(values) < n:
-                    raise ValueError(f"get_real returned {len(values)} values for {n} references")
-                values = values[:n]
+            values = self.reals(self.get_real_method(vrs), n)
         except BaseException as exc:
-            self._fatal("[getReal]", exc)
-            raise self.failure("fmi2GetReal", t) from None
-        if self._queue:
-            self._drain()
+            raise self.failed("[getReal]", "fmi2GetReal", exc, t) from None
+        if self.log_queue:
+            self.drain_log()
         return values
+
+    @staticmethod
+    def reals(values, n: int) -> list:
+        """What get_real returned as a list of its first n values (ValueError: fewer)."""
+        if type(values) is not list:
+            values = list(values)
+        if len(values) != n:
+            if len(values) < n:
+                raise ValueError(f"get_real returned {len(values)} values for {n} references")
+            values = values[:n]
+        return values
+
+    def failed(self, what: str, call: str, exc: BaseException, t: float):
+        """The SimulationError of FMI function `call` at t (s) whose Python call `what` raised `exc`
+        (fmi2Fatal, logged as the wrapper logs it)."""
+        self.fatal(what, exc)
+        return self.failure(call, t)
 
     def set_reals(self, vrs: list, values: list, t: float) -> None:
         """fmi2SetReal of `values` (Python floats) for value references `vrs` (a list)."""
         try:
             self.set_real_method(vrs, values)
         except BaseException as exc:
-            self._fatal("[setReal]", exc)
-            raise self.failure("fmi2SetReal", t) from None
-        if self._queue:
-            self._drain()
+            raise self.failed("[setReal]", "fmi2SetReal", exc, t) from None
+        if self.log_queue:
+            self.drain_log()
 
     # ---- the C entry points' signatures over ctypes arrays (`fmi_calls`) ----------------------
     def raw_do_step(self, c, now, length, new_step) -> int:
@@ -247,9 +261,9 @@ class DirectInstance(FmuInstance):
                 for i in range(n):
                     vals[i] = convert(values[i])
             except BaseException as exc:
-                return self._fatal(what, exc)
-            if self._queue:
-                self._drain()
+                return self.fatal(what, exc)
+            if self.log_queue:
+                self.drain_log()
             return 0
         return function
 
@@ -262,9 +276,9 @@ class DirectInstance(FmuInstance):
             try:
                 set_()(vrs[:n], [convert(vals[i]) for i in range(n)])
             except BaseException as exc:
-                return self._fatal(what, exc)
-            if self._queue:
-                self._drain()
+                return self.fatal(what, exc)
+            if self.log_queue:
+                self.drain_log()
             return 0
         return function
 
