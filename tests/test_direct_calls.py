@@ -22,8 +22,9 @@ REPRESENTATIVE = ["aotv_time_linear_nominal.json",  # seed 000
                   "aotv_time_linear_exit_accurate.json"]  # extrapolated inputs, located exit
 
 
-WALL_CLOCK = ("solve_time",)
-"""Recorded outputs that are wall-clock times (a guidance law's solve time): left out of the bytes."""
+WALL_CLOCK = ("solve_time", "cycle_cpu")
+"""Recorded outputs that are wall-clock or CPU times (a guidance law's solve and cycle times):
+left out of the bytes."""
 
 
 def without_wall_clock(csv: bytes) -> bytes:
