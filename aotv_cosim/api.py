@@ -48,8 +48,9 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
         out: None runs in memory and writes nothing; a folder gets the files of `aotv-cosim run`.
         plots: draw the PNG plots into `out` (needs `out`).
         formats: the time series files, "csv" and/or "parquet".
-        fmi_calls: "c" (every FMU through its FMI C library) or "direct" (this package's own
-            FMUs called in this interpreter, the same results; others through C); None: "c".
+        fmi_calls: "direct" (this package's own FMUs called in this interpreter, the same
+            results, faster; others through their FMI C libraries) or "c" (every FMU through its
+            C library); None: "direct".
 
     Returns:
         a `Result`: `.timeseries` (DataFrame indexed by time in s), `.units`, `.summary`,

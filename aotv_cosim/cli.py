@@ -136,9 +136,9 @@ _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
 @_step_timeout()
 @click.option("--fmi-calls", type=click.Choice(["c", "direct"]), default=None,
-              help="How the FMUs are called: c, through their FMI C libraries; direct, this package's own "
-                   "FMUs called in this process's Python (faster, same results), others through C "
-                   "[c].")
+              help="How the FMUs are called: direct, this package's own FMUs called in this process's "
+                   "Python (faster, the same results), others through their FMI C libraries; c, every FMU "
+                   "through its C library [direct].")
 def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_timeout, fmi_calls):
     """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 

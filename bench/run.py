@@ -8,9 +8,12 @@ interleaved with the measured runs. Definitions (docs/performance.md):
 1. Master overhead per communication step = the master's stepping wall time minus the time
    spent inside the FMI calls it makes (fmi2DoStep, fmi2GetReal, fmi2SetReal, each timed in the
    same run; the timer's own cost, calibrated on a no-op, is removed from both sides), divided
-   by the number of steps. Whatever the FMUs compute is excluded; everything the master does
-   per step (copies, bookkeeping, stop conditions, recording every signal) is included. Also
-   the whole step: the loop's CPU per step with the FMUs' work (<= 40 us).
+   by the number of steps, the FMUs called through their C wrappers. Whatever the FMUs compute is
+   excluded; everything the master does per step (copies, bookkeeping, stop conditions, recording
+   every signal) is included. Also the whole step: the loop's CPU per step with the FMUs' work
+   (<= 40 us). Then the whole step with each way of calling the FMUs (bench_fmi_calls.py):
+   direct in-process calls against the C path with pythonfmu's wrapper (stock, <= 0.55) and
+   with the lean one.
 2. Master time per step against OSP libcosim's (libcosimpy) on the same system exported to SSP
    (aotv_cosim.ssp), same step, the master with the FMUs as built and libcosim with pythonfmu's
    own wrapper in them (AOTV_COSIM_WRAPPER=stock): stepping wall time, and whole-run CPU. Then the
@@ -102,7 +105,7 @@ def overhead_us_per_step(scenario):
     cost and the part of it counted inside the calls come from `_timer_cost`. Counting the
     no-op's own call as timer cost makes the overhead err high, never low.
     """
-    master = _TimedMaster(scenario, lambda times, rows: None)
+    master = _TimedMaster(scenario, lambda times, rows: None, fmi_calls="c")  # FMI calls to time
     outcome = master.run()
     assert outcome.status == "completed", outcome.error
     added, counted = _timer_cost()
@@ -114,7 +117,7 @@ def overhead_us_per_step(scenario):
 
 
 def master_us_per_step(scenario):
-    outcome = Master(scenario, lambda times, rows: None).run()
+    outcome = Master(scenario, lambda times, rows: None, fmi_calls="c").run()
     assert outcome.status == "completed", outcome.error
     return outcome.loop_time / outcome.steps * 1e6
 
@@ -140,7 +143,21 @@ def target_overhead(repeats):
            "us/step")
     print(f"     CPU per step: inside the FMI calls {statistics.median(inside):.1f} us; naive FMPy loop "
           f"{statistics.median(naive):.1f} us (ratio master/naive {whole / statistics.median(naive):.2f})")
+    target_fmi_calls(repeats)
     return o
+
+
+def target_fmi_calls(repeats):
+    """The whole step with the FMUs called directly against the C paths (bench_fmi_calls.py)."""
+    import bench_fmi_calls
+
+    print("1b. FMI call paths: whole step, CPU, direct in-process calls vs the C wrappers (stock, lean)")
+    med = bench_fmi_calls.measure(repeats)
+    ratio = bench_fmi_calls.ratios(med, "cpu")
+    report("whole step, direct / C path stock wrapper", f"{ratio['direct / stock']:.3f}", "<= 0.55",
+           ratio["direct / stock"] <= 0.55)
+    print(f"     direct / lean {ratio['direct / lean']:.3f}, lean / stock {ratio['lean / stock']:.3f}; "
+          + ", ".join(f"{way} {med[way]['cpu']:.1f}" for way in bench_fmi_calls.WAYS) + " us/step")
 
 
 def target_libcosim(repeats):
@@ -157,7 +174,7 @@ def target_libcosim(repeats):
         ssp = with_wrapper("stock", lambda: export_ssp(load_scenario(NOMINAL), Path(tmp) / "nominal.ssp"))
         for _ in range(repeats):
             cpu0 = time.process_time()
-            outcome = Master(scenario, lambda times, rows: None).run()
+            outcome = Master(scenario, lambda times, rows: None, fmi_calls="c").run()
             ours["whole-run CPU"].append((time.process_time() - cpu0) / outcome.steps * 1e6)
             ours["stepping wall"].append(outcome.loop_time / outcome.steps * 1e6)
             cpu0 = time.process_time()

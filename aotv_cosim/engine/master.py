@@ -25,10 +25,11 @@ scenario's "step": {"inputs": "extrapolated"} the delayed inputs get the mean ov
 step of their sources' linear extrapolation, which makes it second order
 (`coupling.Coupling._end_of_sweep`).
 
-The loop keeps per-component value-reference and value arrays made once: outputs are views into
-one shared ctypes buffer that numpy also sees, and inputs whose sources lie side by side in that
-buffer are passed as views of it (no copy per step). It calls the C entry points directly and
-records the bytes of the buffer per communication point. Non-finite values are searched for in
+The values exchanged and one communication step belong to the run's `coupling.Coupling`: outputs
+are views into one shared ctypes buffer that numpy also sees, inputs whose sources lie side by side
+in that buffer are passed as views of it (no copy per step), and the C entry points are called
+directly, or, for the FMUs this package built, their Python slaves (`fmi_calls` "direct",
+`direct_instance`). The loop records the bytes of the buffer per communication point. Non-finite values are searched for in
 whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
 is summed (a non-finite sum is checked element-wise) and kept if it holds a non-finite value, so
 the first one is found where it was produced. A `pool` kept by the caller lets a sequence
@@ -81,7 +82,9 @@ FMI_CALLS = ("c", "direct")
 """How the master calls FMUs: "c", through each FMU's FMI C library (FMPy); "direct", the FMUs
 built by this package called in this interpreter (`direct_instance.DirectInstance`), every
 other FMU through its C library."""
-FMI_CALLS_DEFAULT = "c"
+FMI_CALLS_DEFAULT = "direct"
+"""The FMUs built here called directly: the same results to the bit on every shipped scenario
+(tests/test_direct_calls.py), the whole step 0.64x of the C path's (bench/bench_fmi_calls.py)."""
 
 
 def signals_to_read(scenario):
