@@ -326,8 +326,18 @@ def _direct_step(p, values, jacobi):
             status = stepped(result, t, h)
             if status:
                 raise inst.refused_step(t, status)
-        if not jacobi:
-            read(t_new)
+        if jacobi:
+            return
+        if n_out:  # `read`, inlined: one Python call fewer per component and step
+            try:
+                out = slave_get(ovrs)
+                values[first:end] = out if type(out) is list and len(out) == n_out else reals(out, n_out)
+            except BaseException as exc:
+                raise failed("[getReal]", "fmi2GetReal", exc, t_new) from None
+            if queue:
+                drain()
+        for call in after:
+            call(t_new)
     return step, read
 
 
@@ -355,7 +365,6 @@ def _direct_call(is_get, inst, call, values):
     vrs, n, positions = list(call.vrs)[:call.n], call.n, tuple(call.positions)
     lo = positions[0]
     aliased = positions == tuple(range(lo, lo + n))
-    get_reals, set_reals = inst.get_reals, inst.set_reals
     if is_get and aliased:
         slave_get, queue, drain, reals, failed = (inst.get_real_method, inst.log_queue, inst.drain_log,
                                                   inst.reals, inst.failed)
@@ -371,9 +380,16 @@ def _direct_call(is_get, inst, call, values):
         return get_slice
     if is_get:
         def get_scattered(t):
-            for j, value in zip(positions, get_reals(vrs, n, t)):
+            for j, value in zip(positions, inst.get_reals(vrs, n, t)):
                 values[j] = value
         return get_scattered
-    if aliased:
-        return lambda t: set_reals(vrs, values[lo:lo + n], t)
-    return lambda t: set_reals(vrs, [values[j] for j in positions], t)
+    slave_set, queue, drain, failed = inst.set_real_method, inst.log_queue, inst.drain_log, inst.failed
+
+    def set_values(t):
+        try:
+            slave_set(vrs, values[lo:lo + n] if aliased else [values[j] for j in positions])
+        except BaseException as exc:
+            raise failed("[setReal]", "fmi2SetReal", exc, t) from None
+        if queue:
+            drain()
+    return set_values
