@@ -301,7 +301,10 @@ def _direct_step(p, values, jacobi):
         if n_out:
             try:
                 out = slave_get(ovrs)
-                values[first:end] = out if type(out) is list and len(out) == n_out else reals(out, n_out)
+                try:
+                    values[first:end] = out  # a sequence of n_out numbers, as the slaves give
+                except Exception:  # another length or kind: what the C wrapper makes of it
+                    values[first:end] = reals(out, n_out)
             except BaseException as exc:
                 raise failed("[getReal]", "fmi2GetReal", exc, t_new) from None
             if queue:
@@ -311,8 +314,9 @@ def _direct_step(p, values, jacobi):
 
     def step(t, h, t_new):
         if not jacobi:
-            for call in before:
-                call(t_new)
+            if before:
+                for call in before:
+                    call(t_new)
             if nf:
                 try:
                     slave_set(fvrs, values[lo:hi] if aliased else [values[j] for j in positions])
@@ -324,9 +328,7 @@ def _direct_step(p, values, jacobi):
             result = slave_step(t, h)
         except BaseException as exc:
             raise inst.refused_step(t, inst.fatal("[doStep]", exc)) from None
-        if result is True and not queue:
-            inst.last_successful_time = t + h
-        else:
+        if result is not True or queue:  # True, no log: fmi2OK (`DirectInstance.stepped`)
             status = stepped(result, t, h)
             if status:
                 raise inst.refused_step(t, status)
@@ -335,13 +337,17 @@ def _direct_step(p, values, jacobi):
         if n_out:  # `read`, inlined: one Python call fewer per component and step
             try:
                 out = slave_get(ovrs)
-                values[first:end] = out if type(out) is list and len(out) == n_out else reals(out, n_out)
+                try:
+                    values[first:end] = out  # a sequence of n_out numbers, as the slaves give
+                except Exception:  # another length or kind: what the C wrapper makes of it
+                    values[first:end] = reals(out, n_out)
             except BaseException as exc:
                 raise failed("[getReal]", "fmi2GetReal", exc, t_new) from None
             if queue:
                 drain()
-        for call in after:
-            call(t_new)
+        if after:
+            for call in after:
+                call(t_new)
     return step, read
 
 

@@ -196,7 +196,9 @@ class DirectInstance(FmuInstance):
 
     def stepped(self, result, t: float, h: float) -> int:
         """The status of a do_step from t over h (s) that returned `result` (0 ok, 2 discard),
-        its log moved to `messages`."""
+        its log moved to `messages`. The master's loop leaves out this call for a step that
+        returned True and logged nothing (fmi2OK): the fmi2LastSuccessfulTime it would set is
+        read only after a discard, which sets it."""
         try:
             done = bool(result)
         except Exception:  # the wrapper: an error in the truth test counts as done
