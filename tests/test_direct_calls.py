@@ -186,3 +186,25 @@ def test_dispersed_runs_of_a_benchmark_set_are_the_same_on_both_paths():
         recorded[calls] = runs
     assert recorded["c"][0][0] == "completed" and recorded["c"][0][2] is not None
     assert recorded["c"] == recorded["direct"]
+
+
+@pytest.mark.parametrize("calls", ["c", "direct", None])
+def test_the_command_line_and_the_api_choose_the_call_path(calls, tmp_path):
+    """`aotv-cosim run --fmi-calls` and `api.run(fmi_calls=)`; summary.json says which path ran
+    (direct by default for this package's FMUs)."""
+    from click.testing import CliRunner
+
+    from aotv_cosim import api
+    from aotv_cosim.cli import main
+
+    args = ["run", str(SCENARIOS / "aotv_time_linear_nominal.json"), "--stop", "1", "--no-plots",
+            "--out", str(tmp_path / "cli")] + (["--fmi-calls", calls] if calls else [])
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    expected = calls or "direct"
+    assert summary["fmi_calls"] == expected
+    assert {f["fmi_calls"] for f in summary["fmus"].values()} == {expected}
+    ran = api.run(SCENARIOS / "aotv_time_linear_nominal.json", stop=1.0, fmi_calls=calls)
+    assert ran.summary["fmi_calls"] == expected
+    assert without_wall_clock((tmp_path / "cli" / "timeseries.csv").read_bytes()).startswith(b"time,")
