@@ -37,7 +37,7 @@ so concurrent runs would risk that state and not be faster."""
 
 def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop: Optional[float] = None,
         step: Optional[float] = None, out: Optional[PathLike] = None, plots: bool = False,
-        formats: Sequence[str] = ("csv",)) -> Result:
+        formats: Sequence[str] = ("csv",), fmi_calls: Optional[str] = None) -> Result:
     """Run one scenario, as `aotv-cosim run` does.
 
     Parameters:
@@ -48,6 +48,9 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
         out: None runs in memory and writes nothing; a folder gets the files of `aotv-cosim run`.
         plots: draw the PNG plots into `out` (needs `out`).
         formats: the time series files, "csv" and/or "parquet".
+        fmi_calls: "direct" (this package's own FMUs called in this interpreter, the same
+            results, faster; others through their FMI C libraries) or "c" (every FMU through its
+            C library); None: "direct".
 
     Returns:
         a `Result`: `.timeseries` (DataFrame indexed by time in s), `.units`, `.summary`,
@@ -62,9 +65,12 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
         raise InputError("plots need an output folder", entry="plots", fix="give out=FOLDER, or plots=False")
     with _ONE_AT_A_TIME:  # loading may build FMUs into the shared cache: in the lock too
         loaded = _scenario(scenario, set, start, stop, step)
+        if fmi_calls not in (None, "c", "direct"):
+            raise InputError(f"unknown fmi_calls {fmi_calls!r}", entry="fmi_calls", fix='give "c" or "direct"')
         if out is None:
-            return Result(*simulate(loaded))
-        return Result(*write_run(loaded, out, make_plots=plots, formats=formats), out=Path(out))
+            return Result(*simulate(loaded, fmi_calls=fmi_calls))
+        return Result(*write_run(loaded, out, make_plots=plots, formats=formats, fmi_calls=fmi_calls),
+                      out=Path(out))
 
 
 def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int = 0, scheduler=None,

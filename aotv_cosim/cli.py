@@ -82,12 +82,13 @@ def main(debug):
     _Context.debug = debug
 
 
-def _run_one(scenario, out_dir, plots, formats=("csv",)):
+def _run_one(scenario, out_dir, plots, formats=("csv",), fmi_calls=None):
     from aotv_cosim.engine.runner import run_scenario
 
     bar, update = console.progress_bar(scenario)
     try:
-        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots, formats=formats)
+        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots, formats=formats,
+                               fmi_calls=fmi_calls)
         console.finish_bar(bar, summary, scenario.start)
     finally:
         bar.close()
@@ -133,7 +134,11 @@ _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")
               help="Time series file: timeseries.csv, timeseries.parquet (units in the field metadata) or both.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
 @_step_timeout()
-def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_timeout):
+@click.option("--fmi-calls", type=click.Choice(["c", "direct"]), default=None,
+              help="How the FMUs are called: direct, this package's own FMUs called in this process's "
+                   "Python (faster, the same results), others through their FMI C libraries; c, every FMU "
+                   "through its C library [direct].")
+def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_timeout, fmi_calls):
     """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
@@ -144,7 +149,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
         loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets, file=scenario), step, start, stop)),
                           step_timeout)
         out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
-        summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format])
+        summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format], fmi_calls)
         console.print_summary(summary, out_dir)
         _print_outcome(summary)
         _print_fmu_traceback(summary)

@@ -14,6 +14,7 @@ interleaved within seconds, much less.
 """
 
 import argparse
+from types import SimpleNamespace
 import json
 import os
 import statistics
@@ -74,8 +75,8 @@ def with_fmus(scenario_path: Path, fmus: dict, folder: Path, tag: str):
 
 
 def us_per_step(scenario) -> float:
-    master = _CpuTimedMaster(scenario, lambda times, rows: None)
-    outcome = master.run()
+    master = _CpuTimedMaster(scenario)
+    outcome = master.run(SimpleNamespace(record=lambda times, rows: None))
     assert outcome.status == "completed", outcome.error
     return master.loop_cpu_ns / outcome.steps / 1e3
 

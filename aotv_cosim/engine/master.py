@@ -22,12 +22,14 @@ all inputs set, the scheme of OSP libcosim's fixed-step algorithm.
 
 Inputs held over a step (default) give a coupling error first order in the step; with the
 scenario's "step": {"inputs": "extrapolated"} the delayed inputs get the mean over the coming
-step of their sources' linear extrapolation, which makes it second order (`_end_of_sweep`).
+step of their sources' linear extrapolation, which makes it second order
+(`coupling.Coupling._end_of_sweep`).
 
-The loop keeps per-component value-reference and value arrays made once: outputs are views into
-one shared ctypes buffer that numpy also sees, and inputs whose sources lie side by side in that
-buffer are passed as views of it (no copy per step). It calls the C entry points directly and
-records the bytes of the buffer per communication point. Non-finite values are searched for in
+The values exchanged and one communication step belong to the run's `coupling.Coupling`: outputs
+are views into one shared ctypes buffer that numpy also sees, inputs whose sources lie side by side
+in that buffer are passed as views of it (no copy per step), and the C entry points are called
+directly, or, for the FMUs this package built, their Python slaves (`fmi_calls` "direct",
+`direct_instance`). The loop records the bytes of the buffer per communication point. Non-finite values are searched for in
 whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
 is summed (a non-finite sum is checked element-wise) and kept if it holds a non-finite value, so
 the first one is found where it was produced. A `pool` kept by the caller lets a sequence
@@ -42,14 +44,16 @@ from typing import Optional
 
 import numpy as np
 
-from aotv_cosim.engine import interrupts, ordering, step_doubling, watchdog
+from aotv_cosim.engine import interrupts, step_doubling, watchdog
 from aotv_cosim.engine.capabilities import fixed_step_components
+from aotv_cosim.engine.coupling import Coupling
+from aotv_cosim.engine.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.engine.interrupts import Interrupted
-from aotv_cosim.engine.fmi_calls import Plan, bind, calls_by_type, run_bound
+from aotv_cosim.engine.fmi_calls import bind, run_bound
 from aotv_cosim.engine.fmi_instance import FmuInstance
 from aotv_cosim.engine.rows import CHUNK, Recorder, Rows
-from aotv_cosim.engine.ranges import RangeWatch, range_watches
+from aotv_cosim.engine.ranges import RangeWatch
 from aotv_cosim.engine.scenario import crossing
 from aotv_cosim.engine.variable_types import Strings
 from aotv_cosim.status import Status
@@ -81,6 +85,16 @@ class Outcome:
     bound, sweeps made, smallest and largest step (s)."""
 
 
+FMI_CALLS = ("c", "direct")
+"""How the master calls FMUs: "c", through each FMU's FMI C library (FMPy); "direct", the FMUs
+built by this package called in this interpreter (`direct_instance.DirectInstance`), every
+other FMU through its C library."""
+FMI_CALLS_DEFAULT = "direct"
+"""The FMUs built here called directly: the same results to the bit on every shipped scenario
+(tests/test_direct_calls.py), the whole step about 0.75-0.8x of the lean C path's and 0.55-0.6x
+of the stock one's (bench/bench_fmi_calls.py)."""
+
+
 def signals_to_read(scenario):
     """Every output the master reads: connected sources, records, stop and expectation signals."""
     wanted = [f"{c.source}.{c.output}" for c in scenario.system.connections]
@@ -94,11 +108,16 @@ def signals_to_read(scenario):
 class Master:
     """Runs one Scenario; `run(recorder)` passes the recorder chunks of recorded rows as they come."""
 
-    def __init__(self, scenario, progress=None, overrides=None, pool=None):
+    def __init__(self, scenario, progress=None, overrides=None, pool=None, fmi_calls=None):
         """progress(t): told the time (s) now and then; overrides: {'comp.var': value} set after
         the wiring's values (a Monte Carlo draw); pool: a dict kept by the caller between runs,
         {name: FmuInstance}: its instances are reset (fmi2Reset) instead of instantiated again,
-        and left open at the end of the run."""
+        and left open at the end of the run; fmi_calls: "c" (every FMU through its FMI C
+        library) or "direct" (the FMUs built by this package called in this interpreter,
+        `direct_instance`), default `FMI_CALLS_DEFAULT`."""
+        if (fmi_calls or FMI_CALLS_DEFAULT) not in FMI_CALLS:
+            raise ValueError(f"fmi_calls must be one of {', '.join(FMI_CALLS)}, not {fmi_calls!r}")
+        self.fmi_calls = fmi_calls or FMI_CALLS_DEFAULT
         self.scenario = scenario
         self.record = None
         """The `record` of the recorder of the run under way (`rows.Rows` flushes to it)."""
@@ -107,9 +126,8 @@ class Master:
         self.pool = pool
         self.signals = signals_to_read(scenario)
         self.instances = {}
-        self.converted = False
-        """True when a delayed Real input takes a converted Integer or Boolean output (held, not
-        extrapolated: `_end_of_sweep`)."""
+        self.coupling = None
+        """The run's `Coupling` (buffer and prepared calls), made after initialization."""
         self.strings = Strings()
         """The String values of the run, numbered (`variable_types`): the buffer holds their numbers."""
 
@@ -118,14 +136,18 @@ class Master:
         s = self.scenario
         kept = self.pool if self.pool is not None else {}
         for name, comp in s.system.components.items():
+            direct = self.fmi_calls == "direct" and built_here(comp.fmu)
             inst = kept.get(name)
-            if inst is not None and inst.info is comp.fmu and not inst.broken:
+            if inst is not None and inst.info is comp.fmu and not inst.broken and \
+                    getattr(inst, "direct", False) == direct:
                 inst.reset(s.start, s.stop)
             else:
-                inst = FmuInstance(name, comp.fmu, s.start, s.stop)
+                if inst is not None and getattr(inst, "direct", False) != direct and not inst.broken:
+                    inst.close()  # a pooled instance of the other call path
+                inst = (DirectInstance if direct else FmuInstance)(name, comp.fmu, s.start, s.stop)
             self.instances[name] = kept[name] = inst
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
-                                  "guid": comp.fmu.guid}
+                                  "guid": comp.fmu.guid, "fmi_calls": "direct" if direct else "c"}
         drawn = {}
         for signal, value in self.overrides.items():
             comp, var = signal.split(".", 1)
@@ -160,86 +182,14 @@ class Master:
             inst.exit_initialization()
 
     def _build_plans(self):
-        s = self.scenario
-        system = s.system
-        sources = system.source_of()
-        # Connected outputs first, in connection order, so that the inputs a component takes
-        # from one source sit side by side in the buffer and are passed without a copy.
-        connected = list(dict.fromkeys(f"{c.source}.{c.output}" for c in system.connections))
-        signals = connected + [sig for sig in self.signals if sig not in connected]
-        by_comp = {name: [sig.split(".", 1)[1] for sig in signals if sig.split(".", 1)[0] == name]
-                   for name in system.components}
-        sweep = ordering.sweep(system, by_comp, jacobi=s.algorithm == "jacobi")
-        order = sweep.order
-        real = {name: [o for o in by_comp[name] if system.components[name].fmu.variables[o].type == "Real"]
-                for name in order}
-        # Outputs re-read after the step go last, so that their re-reads are views of the buffer.
-        reread = {(comp, o) for _, comp, names in self._sweep_actions(sweep) if _ == "get"
-                  for o in names}
-        stale = {}
-        for name in order:
-            tail = [o for o in real[name] if (name, o) in reread]
-            real[name] = [o for o in real[name] if o not in tail] + tail
-            # Gauss-Seidel sets no input from them before their re-read; Jacobi sets every input
-            # from the values read right after the steps, so it reads them all there.
-            stale[name] = 0 if s.algorithm == "jacobi" else len(tail)
-        # Integer, Boolean, Enumeration and String outputs after every Real one (`variable_types`).
-        typed = {name: [o for o in by_comp[name] if o not in real[name]] for name in order}
-        n_real = sum(len(v) for v in real.values())
-        total = n_real + sum(len(v) for v in typed.values())
-        self.values = (ctypes.c_double * max(total, 1))()
-        self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
-        self.index, plans, offset = {}, [], 0
-        for name in order:
-            plan = Plan(self.instances[name], real[name], self.values, offset, stale[name])
-            for k, out in enumerate(real[name]):
-                self.index[f"{name}.{out}"] = offset + k
-            offset += plan.n_out
-            plans.append(plan)
-        for name in order:
-            for out in typed[name]:
-                self.index[f"{name}.{out}"] = offset
-                offset += 1
-        self.types = {sig: system.variable(sig).type for sig in self.index}
-
-        def call(kind, name, names, alias=True):
-            where = [self.index[".".join(sources[(name, v)]) if kind == "set" else f"{name}.{v}"]
-                     for v in names]
-            return calls_by_type(self.instances[name], kind, names, where, self.values, self.strings,
-                                 alias)
-
-        def calls(actions):
-            return [(kind, self.instances[name], made) for kind, name, names in actions
-                    for made in call(kind, name, names) if made.n]
-
-        for plan in plans:
-            name = plan.inst.name
-            fresh, *typed_fresh = call("set", name, sweep.fresh[name])
-            plan.fresh = fresh
-            plan.before = calls(sweep.before[name]) + [("set", plan.inst, c) for c in typed_fresh]
-            plan.after = [("get", plan.inst, c) for c in call("get", name, typed[name])[1:]]
-            # Only Real inputs from Real outputs are extrapolated; converted ones are held.
-            held = [i for i in sweep.delayed[name] if system.variable(".".join(sources[(name, i)])).type == "Real"]
-            plan.delayed = call("set", name, held, alias=False)[0]
-            self.converted |= any(plan.inst.info.variables[i].type == "Real" and
-                                  system.variable(".".join(sources[(name, i)])).type != "Real"
-                                  for i in sweep.delayed[name])
-        self.finish = calls(sweep.finish)
-        self.start = calls(ordering.start_actions(system, by_comp))
-        self.plans = plans
-        self.order = order
-
-    @staticmethod
-    def _sweep_actions(sweep):
-        return [a for name in sweep.order for a in sweep.before[name]] + sweep.finish
+        """The run's `Coupling`: its buffer and calls, with the buffer's names kept here for `Rows`
+        and the caller (values, array, index, types, start)."""
+        c = self.coupling = Coupling(self.scenario, self.instances, self.signals, self.strings)
+        self.values, self.array, self.index, self.types, self.start = c.values, c.array, c.index, c.types, c.start
 
     # ---- stepping ----------------------------------------------------------------------------
     def _read_all(self, t):
-        for p in self.plans:
-            if p.n_out and p.inst.raw_get_real(p.inst.component, p.out_vrs, p.out_size, p.out_vals) > 1:
-                raise p.inst.failure("fmi2GetReal", t)
-            if p.after:
-                run_bound(bind(p.after), self.values, t)
+        self.coupling.read_all(t)
 
     def run(self, recorder: Recorder) -> Outcome:
         """Run the scenario to its stop time or stop condition, the recorded rows passed to
@@ -306,89 +256,9 @@ class Master:
                 return
             rows.add(last)
 
-    def _end_of_sweep(self):
-        """(finish, extrapolate): what a sweep does after the last component has stepped.
-
-        `finish` are the bound calls that set the inputs not yet set with their sources' values
-        at the new communication point and re-read the outputs that feed through from them, in
-        the order of `ordering.sweep`. With held inputs (default) `extrapolate` is None. With
-        extrapolated inputs it is `extrapolate(t, h, h_next, last)`, which then sets each delayed
-        input to the mean over the coming step of the line through its source's last two
-        values, v + (h_next / 2) (v - v_prev) / h, `last` holding the buffer one step (h) ago:
-        the coupling error becomes second order in the step for components that hold their
-        inputs over a step. The re-reads are made before, with the exact values set; without
-        re-reads the exact values are not set at all.
-        """
-        finish = bind(self.finish)
-        if self.scenario.inputs != "extrapolated":
-            return finish, None
-        values = self.values
-        lines = [(p.inst, p.inst.component, p.inst.raw_set_real, p.delayed.vrs, p.delayed.size,
-                  p.delayed.vals, tuple(enumerate(p.delayed.positions)))
-                 for p in self.plans if p.delayed.n]
-
-        def extrapolate(t, h, h_next, last):
-            c_slope = 0.5 * h_next / h
-            for inst, c, set_, vrs, size, vals, slots in lines:
-                for i, j in slots:  # a few values: plain floats cost less than numpy here
-                    now = values[j]
-                    vals[i] = now + c_slope * (now - last[j])
-                if set_(c, vrs, size, vals) > 1:
-                    raise inst.failure("fmi2SetReal", t)
-        exact = any(is_get or what != "fmi2SetReal" for is_get, *_, what in finish) or self.converted
-        return (finish if exact else []), extrapolate
-
-    def sweeper(self, finish):
-        """advance(t, step, t_new): one communication step of every component from t, values
-        exchanged as `ordering.sweep` says (Gauss-Seidel) or all after all stepped (Jacobi), then
-        the bound `finish` calls; the buffer then holds the outputs at t_new."""
-        values = self.values
-        steppers = [(p.inst, p.inst.component, p.inst.raw_do_step, p.inst.raw_get_real,
-                     p.inst.raw_set_real, p.out_vrs, p.out_vals, p.n_fresh_out, p.fresh_out_size,
-                     p.fresh.vrs, p.fresh.vals, p.fresh.pairs, p.fresh.n, p.fresh.size,
-                     bind(p.before), bind(p.after)) for p in self.plans]
-        now, length, new_step = ctypes.c_double(), ctypes.c_double(), ctypes.c_int(1)
-
-        def jacobi(t, step, t_new):
-            now.value, length.value = t, step
-            for inst, c, do_step, get, set_, ovrs, ovals, n_out, osize, *_ in steppers:
-                status = do_step(c, now, length, new_step)
-                if status > 1:
-                    raise inst.refused_step(t, status)
-            for inst, c, _do, get, set_, ovrs, ovals, n_out, osize, *_, after in steppers:
-                if n_out and get(c, ovrs, osize, ovals) > 1:
-                    raise inst.failure("fmi2GetReal", t_new)
-                if after:
-                    run_bound(after, values, t_new)
-            run_bound(finish, values, t_new)
-
-        def gauss_seidel(t, step, t_new):
-            now.value, length.value = t, step
-            for (inst, c, do_step, get, set_, ovrs, ovals, n_out, osize, fvrs, fvals, pairs, nf,
-                 fsize, before, after) in steppers:
-                if before:
-                    run_bound(before, values, t_new)
-                if nf:
-                    for i, j in pairs:
-                        fvals[i] = values[j]
-                    if set_(c, fvrs, fsize, fvals) > 1:
-                        raise inst.failure("fmi2SetReal", t)
-                status = do_step(c, now, length, new_step)
-                if status > 1:
-                    raise inst.refused_step(t, status)
-                if n_out and get(c, ovrs, osize, ovals) > 1:
-                    raise inst.failure("fmi2GetReal", t_new)
-                if after:
-                    run_bound(after, values, t_new)
-            run_bound(finish, values, t_new)
-        return watchdog.limited(jacobi if self.scenario.algorithm == "jacobi" else gauss_seidel,
-                                self.scenario.step_timeout)
-
     def watches(self):
         """(buffer index, threshold, direction, condition) of every stop condition and range watch."""
-        s = self.scenario
-        return [(self.index[c.signal], c.threshold, c.direction, c)
-                for c in [*s.stop_conditions, *range_watches(s.system, self.index)]]
+        return self.coupling.watches()
 
     def stop_at(self, rows, outcome, cond, up, event):
         """End the run at a stop condition's crossing `event` (`Rows.event`): say why, and mark the
@@ -405,19 +275,20 @@ class Master:
         if self.scenario.step_control is not None:
             return step_doubling.loop(self, rows, outcome)
         s = self.scenario
-        values, array = self.values, self.array
+        coupling = self.coupling
+        values, array = coupling.values, coupling.array
         start, h, stop = s.start, s.step, s.stop
         n_steps = max(1, math.ceil((stop - start) / h - 1e-9))
         # an FMU that cannot vary its step gets h for the last one too (stop is start + n h,
         # `capabilities.check_capabilities`), not stop - t, which rounding makes differ from h;
         # the last point recorded is then the time it reached, start + n h
         fixed_only = bool(fixed_step_components(s.system))
-        conditions = self.watches()
+        conditions = coupling.watches()
         watched = [idx for idx, *_ in conditions]
         before_values = [values[idx] for idx in watched]  # the watched signals at t
         last_row = bytes(values)  # the whole buffer at t, for an event's interpolation
-        finish, extrapolate = self._end_of_sweep()
-        advance = self.sweeper(finish)
+        coupling.start_stepping()
+        advance, extrapolate = coupling.advance, coupling.extrapolate
         last_values = type(values).from_buffer_copy(values)  # the buffer one step ago
         size = ctypes.sizeof(values)
         every = s.record_every
@@ -444,7 +315,7 @@ class Master:
                     up = crossing(before, now, threshold, direction)
                     if up is not None:
                         # a discrete signal's value changes at a communication point: no interpolation
-                        fraction = None if threshold is None or self.types[cond.signal] != "Real" \
+                        fraction = None if threshold is None or coupling.types[cond.signal] != "Real" \
                             else (threshold - before) / (now - before)
                         previous = np.frombuffer(last_row, dtype=np.float64)[:array.size]
                         self.stop_at(rows, outcome, cond, up, rows.event(cond, t, t_new, fraction, previous))

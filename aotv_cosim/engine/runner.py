@@ -47,34 +47,36 @@ def numeric_columns(scenario) -> list:
     return [c for c in recorded_columns(scenario) if scenario.system.variable(c).type != "String"]
 
 
-def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)) -> RunSummary:
+def run_scenario(scenario, out_dir, progress=None, make_plots=True, formats=("csv",),
+                 fmi_calls=None) -> RunSummary:
     """Run and write results; returns the summary (also in out_dir/summary.json)."""
-    return write_run(scenario, out_dir, progress, make_plots, formats).summary
+    return write_run(scenario, out_dir, progress, make_plots, formats, fmi_calls).summary
 
 
-def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",)) -> Run:
+def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",), fmi_calls=None) -> Run:
     """Run into out_dir: the time series in `formats` (FORMATS), summary.json and the plots.
 
     timeseries.csv is appended as the run goes (whole rows); timeseries.parquet is written at
     the end, with each field's unit in its metadata. The folder is claimed for the run
     (`outdir.claimed`: InputError if unusable or busy). A result file that cannot be written
     fails the run (`OutputError` in the summary); if summary.json itself cannot be written, that
-    OutputError is raised. An interrupted run or one whose output failed draws no plots."""
+    OutputError is raised. An interrupted run or one whose output failed draws no plots.
+    fmi_calls: how the master calls the FMUs (`master.FMI_CALLS`, default its default)."""
     unknown = [f for f in formats if f not in FORMATS]
     if unknown or not formats:
         raise InputError(f"unknown time series format(s) {', '.join(map(repr, unknown)) or '(none given)'}",
                          entry="formats", fix="give csv and/or parquet")
     out_dir = Path(out_dir)
     with claimed(out_dir):
-        return _write_into(scenario, out_dir, progress, make_plots, formats)
+        return _write_into(scenario, out_dir, progress, make_plots, formats, fmi_calls)
 
 
-def _write_into(scenario, out_dir, progress, make_plots, formats):
+def _write_into(scenario, out_dir, progress, make_plots, formats, fmi_calls):
     def open_series(columns, index, decoder=None):
         return TimeSeriesWriter(out_dir, columns, index, decoder) if "csv" in formats else \
             SeriesTable(columns, index)
 
-    run = simulate(scenario, open_series, progress)
+    run = simulate(scenario, open_series, progress, fmi_calls)
     summary, columns, times, rows, decoder = run
     if "parquet" in formats and summary.stop_reason != "output failed":
         write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary.units, decoder)
@@ -86,16 +88,16 @@ def _write_into(scenario, out_dir, progress, make_plots, formats):
     return run
 
 
-def simulate(scenario, open_series=SeriesTable, progress=None) -> Run:
+def simulate(scenario, open_series=SeriesTable, progress=None, fmi_calls=None) -> Run:
     """Run the scenario; nothing is written but what the series object does with the rows.
 
     open_series(columns, index[, decoder]) makes the series object (a `SeriesTable`, kept in
     memory, or a `TimeSeriesWriter`) that is called with every chunk of rows once the buffer
     layout `index` is known; it needs `close()` and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred (`interrupts`): a signal
     ends the run before its next step, or, arriving after the last step, still marks it
-    interrupted."""
+    interrupted. fmi_calls: as for `write_run`; the summary's "fmi_calls" says which ran."""
     with interrupts.deferred():
-        return _simulate(scenario, open_series, progress)
+        return _simulate(scenario, open_series, progress, fmi_calls)
 
 
 class _Series:
@@ -114,10 +116,10 @@ class _Series:
         self.writer(times, rows)
 
 
-def _simulate(scenario, open_series, progress):
+def _simulate(scenario, open_series, progress, fmi_calls):
     columns = recorded_columns(scenario)
     types = {c: scenario.system.variable(c).type for c in columns}
-    master = Master(scenario, progress)
+    master = Master(scenario, progress, fmi_calls=fmi_calls)
     decoder = None
     if any(kind != "Real" for kind in types.values()):
         decoder = Decoder({c: k for c, k in types.items() if k != "Real"}, master.strings.texts)
@@ -160,6 +162,7 @@ def _simulate(scenario, open_series, progress):
         types=decoder.types if decoder else None,
         expectations=evaluate_expectations(scenario.expectations, columns, times, rows, outcome.event,
                                            decoder) if outcome.status.ended_cleanly else [],
+        fmi_calls=master.fmi_calls,
         fmus=outcome.fmus,
         versions={"aotv_cosim": __version__, "python": platform.python_version()},
     )

@@ -38,26 +38,6 @@ EVENT_ITERATIONS = 8
 """Most steps taken to locate a crossing."""
 
 
-class _Saved:
-    """Every FMU's state and the master's buffer at one communication point."""
-
-    def __init__(self, master):
-        self.instances = list(master.instances.values())
-        self.handles = [inst.save_state() for inst in self.instances]
-        self.buffer = master.array.copy()
-
-    def restore(self, master, t):
-        for inst, handle in zip(self.instances, self.handles):
-            inst.restore_state(handle, t)
-        master.array[:] = self.buffer
-
-    def free(self):
-        """Free the states, except on an instance that failed (`FmuInstance.close` says why)."""
-        for inst, handle in zip(self.instances, self.handles):
-            if not inst.broken:
-                inst.free_state(handle)
-
-
 def loop(master, rows, outcome):
     """The error-controlled counterpart of Master._loop: same rows, events and outcome.
 
@@ -66,12 +46,13 @@ def loop(master, rows, outcome):
     (every FMU restored to the start) and run again with tolerances scaled down, at most ATTEMPTS
     times. What an interrupted or failed attempt computed is recorded like any run's rows."""
     control = master.scenario.step_control
+    coupling = master.coupling
     stats = outcome.step_control = {"check": control.check, "sweeps": 0}
-    step = _stepper(master, stats)
+    step = _stepper(coupling, stats)
     if control.check == "local":
         _attempt(master, rows, outcome, control, step)
         return
-    start = _Saved(master)
+    start = coupling.save()
     try:
         asked = control.tolerance
         for attempt in range(1, ATTEMPTS + 1):
@@ -81,7 +62,7 @@ def loop(master, rows, outcome):
             try:
                 grid = _attempt(master, trial, result, control, step)
                 if result.status == "completed":
-                    estimate, order = _global_error(master, start, grid, trial, result.event, asked, step)
+                    estimate, order = _global_error(coupling, start, grid, trial, result.event, asked, step)
             except BaseException:
                 _adopt(outcome, result, trial, rows, stats)
                 raise
@@ -90,14 +71,14 @@ def loop(master, rows, outcome):
                 break
             factor = RETRY_MARGIN / ratio if math.isfinite(ratio) else UNCHECKED_SHRINK
             control = replace(control, tolerance={k: v * factor for k, v in control.tolerance.items()})
-            start.restore(master, master.scenario.start)
+            coupling.restore(start, master.scenario.start)
         _adopt(outcome, result, trial, rows, stats)
         if estimate is not None:
             stats.update(global_error={k: v if math.isfinite(v) else None for k, v in estimate.items()},
                          observed_order=order, tolerance_met=ratio <= 1.0,
                          tolerance_used=dict(control.tolerance))
     finally:
-        start.free()
+        coupling.free(start)
 
 
 RETRY_MARGIN = 0.5
@@ -115,12 +96,12 @@ ATTEMPTS = 3
 """Most attempts at a tolerance checked on the global error."""
 
 
-def _stepper(master, stats):
+def _stepper(coupling, stats):
     """step(t, dt, earlier, h_earlier): one sweep from t over dt, the delayed inputs extrapolated
     from `earlier`, the buffer h_earlier before t; counted in stats["sweeps"] (every sweep of the
     run: attempts, rejected steps, event location and coarse runs)."""
-    finish, extrapolate = master._end_of_sweep()
-    advance = master.sweeper(finish)
+    coupling.start_stepping()
+    advance, extrapolate = coupling.advance, coupling.extrapolate
 
     def step(t, dt, earlier, h_earlier):
         if extrapolate is not None:
@@ -147,7 +128,7 @@ def _adopt(outcome, result, trial, rows, stats):
         rows.keep(t, row)
 
 
-def _global_error(master, start, grid, trial, event, tolerance, step):
+def _global_error(coupling, start, grid, trial, event, tolerance, step):
     """({signal: estimated global error}, {signal: observed order}) of the attempt `trial` (its
     rows held back) whose accepted communication points are `grid`.
 
@@ -160,25 +141,25 @@ def _global_error(master, start, grid, trial, event, tolerance, step):
     where a step straddles a switch (a saturation, a limit). The estimate is Richardson's,
     max |d1| / (2^p - 1). A coarse run that fails (an FMU discards its step) or ends non-finite
     gives an infinite estimate. Afterwards every FMU is back at the attempt's end."""
-    end = _Saved(master)
+    end = coupling.save()
     signals = list(tolerance) + ([event["signal"]] if event is not None else [])
-    columns = [master.index[sig] for sig in signals]
+    columns = [coupling.index[sig] for sig in signals]
     times = np.array([grid[0], *trial.times])  # the trial's rows start after the start point
     fine = np.frombuffer(start.buffer.tobytes() + b"".join(trial.rows),
                          dtype=np.float64).reshape(len(times), -1)[:, columns]
     coarser_grid = grid[::2] if len(grid) % 2 else grid[::2] + [grid[-1]]
     try:
         with np.errstate(all="ignore"):  # the FMUs' own warnings on a coarse run are not the run's
-            coarse = _replay(master, start, grid, columns, step)
-            coarser = _replay(master, start, coarser_grid, columns, step)
+            coarse = _replay(coupling, start, grid, columns, step)
+            coarser = _replay(coupling, start, coarser_grid, columns, step)
     except SimulationError:
-        if any(inst.broken for inst in master.instances.values()):
+        if coupling.broken():
             raise
         return dict.fromkeys(tolerance, math.inf), dict.fromkeys(tolerance)
     finally:
-        if not any(inst.broken for inst in master.instances.values()):
-            end.restore(master, grid[-1])
-            end.free()
+        if not coupling.broken():
+            coupling.restore(end, grid[-1])
+            coupling.free(end)
     rate = (fine[-1] - fine[-2]) / (times[-1] - times[-2]) if event is not None else None
     d1 = _at_event(fine[np.searchsorted(times, grid)] - coarse, rate)
     shared = np.searchsorted(grid, coarser_grid)
@@ -201,11 +182,11 @@ def _at_event(difference, rate):
     return difference
 
 
-def _replay(master, start, grid, columns, step):
+def _replay(coupling, start, grid, columns, step):
     """The buffer's `columns` at each point of `grid`, stepping from the saved state `start`
     once from each point to the next (inputs extrapolated from the previous point)."""
-    array = master.array
-    start.restore(master, grid[0])
+    array = coupling.array
+    coupling.restore(start, grid[0])
     out = np.empty((len(grid), len(columns)))
     out[0] = array[columns]
     earlier, h_earlier = array.copy(), grid[1] - grid[0]
@@ -221,9 +202,10 @@ def _attempt(master, rows, outcome, control, step):
     """Step from the start to the stop time or a stop condition under `control`, recording in
     `rows`; returns the accepted communication points (s), the last one an event's time."""
     s = master.scenario
-    array = master.array
-    watched = [master.index[signal] for signal in control.tolerance]
-    conditions = master.watches()
+    coupling = master.coupling
+    array = coupling.array
+    watched = [coupling.index[signal] for signal in control.tolerance]
+    conditions = coupling.watches()
     span = s.stop - s.start
     stats = outcome.step_control
     stats.update(accepted=0, rejected=0, kept_at_min=0, smallest=math.inf, largest=0.0)
@@ -237,12 +219,12 @@ def _attempt(master, rows, outcome, control, step):
             remaining = s.stop - t
             if h >= remaining or remaining - h < control.min:  # no sliver of a last step
                 h = remaining
-            saved = _Saved(master)
+            saved = coupling.save()
             try:
                 while True:
                     step(t, h, earlier, h_earlier)
                     full = array[watched].copy()
-                    saved.restore(master, t)
+                    coupling.restore(saved, t)
                     step(t, 0.5 * h, earlier, h_earlier)
                     middle = array.copy()
                     step(t + 0.5 * h, 0.5 * h, saved.buffer, 0.5 * h)
@@ -251,7 +233,7 @@ def _attempt(master, rows, outcome, control, step):
                         stats["kept_at_min"] += int(ratio > 1.0)
                         break
                     stats["rejected"] += 1
-                    saved.restore(master, t)
+                    coupling.restore(saved, t)
                     h = control.next_step(h, ratio)
                 t_end = s.stop if h == remaining else t + h
                 points = ((saved.buffer, t, middle, t + 0.5 * h), (middle, t + 0.5 * h, array, t_end))
@@ -273,7 +255,7 @@ def _attempt(master, rows, outcome, control, step):
                 if master.progress:
                     master.progress(t_end)
             finally:
-                saved.free()
+                coupling.free(saved)
             earlier, h_earlier = middle, 0.5 * h
             t, h = t_end, control.next_step(h, ratio)
         return grid
@@ -299,12 +281,12 @@ def _locate(master, rows, outcome, crossing, saved, t, bracket, step, history, c
     t0, t1, before, after = bracket
     v0, v1 = float(before[idx]), float(after[idx])
     tolerance = control.tolerance.get(cond.signal, 1e-9 * max(1.0, abs(threshold)))
-    side = 0
+    side, coupling = 0, master.coupling
     for _ in range(EVENT_ITERATIONS):
         te = t0 + (threshold - v0) / (v1 - v0) * (t1 - t0)
-        saved.restore(master, t)
+        coupling.restore(saved, t)
         step(t, te - t, *history)
-        v = float(master.array[idx])
+        v = float(coupling.array[idx])
         if abs(v - threshold) <= tolerance:
             break
         if (v - threshold) * (v0 - threshold) > 0:  # still before the crossing
@@ -315,7 +297,7 @@ def _locate(master, rows, outcome, crossing, saved, t, bracket, step, history, c
             t1, v1 = te, v
             v0 = v0 if side != 1 else threshold + 0.5 * (v0 - threshold)
             side = 1
-    master.stop_at(rows, outcome, cond, up, rows.event(cond, te, te, 1.0, master.array))
+    master.stop_at(rows, outcome, cond, up, rows.event(cond, te, te, 1.0, coupling.array))
     rows.add(te)
     outcome.steps += 1
     return te

@@ -63,8 +63,11 @@ class RunSummary:
     """{column: type} of the columns that are not Real; None when all are."""
     expectations: list
     """Each expectation checked: signal, at, expected, measured, error, allowed_error, passed."""
+    fmi_calls: str
+    """How the master called the FMUs: "direct" (this package's FMUs called in its own
+    interpreter) or "c" (every FMU through its FMI C library); per FMU in `fmus`."""
     fmus: dict
-    """{component: {"fmu", "file", "guid"}}."""
+    """{component: {"fmu", "file", "guid", "fmi_calls"}}."""
     versions: dict
     """{"aotv_cosim", "python"} versions."""
     plots: list = field(default_factory=list)
