@@ -42,7 +42,7 @@ def both_paths(scenario_path, tmp_path, **changes):
     out = []
     for calls in ("c", "direct"):
         scenario = load_scenario(scenario_path, **changes)
-        summary = write_run(scenario, tmp_path / calls, make_plots=False, fmi_calls=calls).summary
+        summary = write_run(scenario, tmp_path / calls, make_plots=False, fmi_calls=calls).summary.as_json()
         out.append((summary, without_wall_clock((tmp_path / calls / "timeseries.csv").read_bytes())))
     (c, c_csv), (d, d_csv) = out
     return c, d, c_csv, d_csv

@@ -40,7 +40,7 @@ def test_the_summary_is_summary_json_in_order():
     assert list(doc) == ["scenario", "system", "description", "status", "stop_reason", "warnings", "error",
                          "error_detail", "event", "algorithm", "start", "stop", "step", "end_time", "steps",
                          "wall_time_s", "init_time_s", "us_per_step", "final", "min", "max", "units",
-                         "expectations", "fmus", "versions", "plots"]
+                         "expectations", "fmi_calls", "fmus", "versions", "plots"]
     assert type(doc["status"]) is str and summary.status is Status.COMPLETED and summary.end_time == 2.0
     assert json.loads(json.dumps(doc)) == doc
 
