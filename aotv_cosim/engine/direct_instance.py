@@ -29,7 +29,7 @@ import math
 import re
 import sys
 from pathlib import Path
-from types import SimpleNamespace
+from fmpy.model_description import CoSimulation, ModelDescription, ScalarVariable
 
 from aotv_cosim.engine.fmi_instance import STATUS, FmuInstance, _demote_new_paths, extracted
 from aotv_cosim.engine.fmu_file import FmuInfo, Variable
@@ -80,22 +80,31 @@ def slave_class(resources: Path) -> type:
     return best
 
 
-def info_of_class(cls: type, name: str = "fake") -> FmuInfo:
+def info_of_class(cls: type, name: str = "fake", feedthrough: dict = None) -> FmuInfo:
     """An `FmuInfo` describing the variables of slave class `cls` (an instance made to list them),
     for a `DirectInstance` without an FMU file; its path is the class's source file, its
     `slave_class` the class (a system component with this info runs in a `Master` with
-    fmi_calls "direct" as an in-process fake FMU)."""
+    fmi_calls "direct" as an in-process fake FMU). feedthrough: {output: {inputs}} it declares
+    (default none: no output depends directly on an input)."""
     probe = cls(instance_name=name, resources="", logger=0, visible=0)
-    variables = {}
+    variables, declared = {}, []
     for var in probe.vars.values():
         type_ = type(var).__name__
+        variability = var.variability.name if var.variability else "continuous"
+        start = getattr(var, "start", None)
         variables[var.name] = Variable(var.name, var.value_reference, type_, var.causality.name,
-                                       var.variability.name if var.variability else "continuous",
-                                       "", getattr(var, "start", None), var.description or "")
-    description = SimpleNamespace(guid="direct", generationTool="PythonFMU (direct)",
-                                  coSimulation=SimpleNamespace(modelIdentifier=cls.__name__))
+                                       variability, "", start, var.description or "")
+        declared.append(ScalarVariable(name=var.name, valueReference=var.value_reference, type=type_,
+                                       causality=var.causality.name, variability=variability,
+                                       start=None if start is None else str(start),
+                                       description=var.description))
+    # what pythonfmu declares for a slave class: variable steps, no saved states asked for here
+    description = ModelDescription(
+        fmiVersion="2.0", modelName=cls.__name__, instantiationToken="direct", generationTool="PythonFMU (direct)",
+        coSimulation=CoSimulation(modelIdentifier=cls.__name__, canHandleVariableCommunicationStepSize=True),
+        modelVariables=declared)
     info = FmuInfo(path=Path(inspect.getfile(cls)), model_description=description, variables=variables,
-                   feedthrough={}, initial_feedthrough={})
+                   feedthrough=dict(feedthrough or {}), initial_feedthrough=dict(feedthrough or {}))
     info.slave_class = cls
     return info
 

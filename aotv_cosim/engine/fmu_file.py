@@ -16,11 +16,13 @@ from aotv_cosim.engine.archives import check_fmu_members, check_sizes
 from aotv_cosim.errors import InputError
 from aotv_cosim.paths import regular_file, resolved
 
-FmuResolver = Callable[[Union[str, Path]], Path]
+FmuResolver = Callable[[Union[str, Path]], Union[Path, "FmuInfo"]]
 """Gives the .fmu file of a wiring's FMU reference that is not a .fmu path: a name of this
 package's FMUs, or a user's FMU source (its absolute .py path). Loading takes one, so it builds
 nothing itself; the API and the command line give `fmu.build.built_fmu`, which builds the FMU
-when it is missing or stale. An AotvError it raises is reported against the wiring entry."""
+when it is missing or stale. An AotvError it raises is reported against the wiring entry. It
+may give an `FmuInfo` instead of a file: an in-process slave class with no FMU file
+(`direct_instance.info_of_class`, the fake FMUs of the master's tests)."""
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,7 @@ class FmuInfo:
         return self.model_description.coSimulation.modelIdentifier
 
 
-def resolve_fmu(ref: str, base: Path, fmus: FmuResolver, *, file=None, entry=None) -> Path:
+def resolve_fmu(ref: str, base: Path, fmus: FmuResolver, *, file=None, entry=None) -> "Path | FmuInfo":
     """The .fmu file of an FMU reference of a wiring file: a path ending in .fmu, relative to
     base; a user's FMU source ending in .py, relative to base, or a name of this package's FMUs,
     both given to `fmus`. A name `fmus` refuses (InputError) is reported against `file` and `entry`."""

@@ -171,8 +171,8 @@ def load_system(path, overrides=None, overrides_file=None, *, fmus: FmuResolver)
     for name, spec in doc["components"].items():
         entry = f"components.{name}.fmu"
         try:
-            fmu_path = resolve_fmu(spec["fmu"], base, fmus, file=path, entry=entry)
-            info = read_fmu(fmu_path, file=path, entry=entry)
+            found = resolve_fmu(spec["fmu"], base, fmus, file=path, entry=entry)
+            info = found if isinstance(found, FmuInfo) else read_fmu(found, file=path, entry=entry)
         except AotvError as exc:
             exc.file = exc.file or path
             exc.entry = exc.entry or entry
