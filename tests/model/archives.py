@@ -2,14 +2,14 @@
 SSP archives exported from the nominal scenario and rewritten member by member."""
 
 import zipfile
-from pathlib import Path
 
 from aotv_cosim.engine.scenario import load_scenario
 from aotv_cosim.ssp.export import export_ssp
-from tests.helpers import NOMINAL
+from tests.helpers import NOMINAL, ROOT
 
-CORPUS = Path(__file__).resolve().parent / "data" / "corpus"
-"""The input-validation catalogue: index.json and the malformed files it lists."""
+CORPUS = ROOT / "tests" / "data" / "corpus"
+"""The input-validation catalogue: index.json and the malformed files it lists (their relative
+paths to the shipped scenarios count the folders up to the repository)."""
 
 SSD = "SystemStructure.ssd"
 

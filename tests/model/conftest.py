@@ -9,7 +9,7 @@ from tests.model.archives import CORPUS, export_nominal
 
 @pytest.fixture(scope="session")
 def crafted_archives():
-    """Write the corpus's crafted FMU archives (deterministic bytes) into data/corpus/fmus."""
+    """Write the corpus's crafted FMU archives (deterministic bytes) into tests/data/corpus/fmus."""
     spec = importlib.util.spec_from_file_location("make_archives", CORPUS / "make_archives.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
