@@ -256,8 +256,9 @@ def test_a_bracket_on_one_side_of_the_edge_is_one_line(tmp_path):
              "widen the bracket")
 
 
-def test_an_fmu_whose_binary_cannot_be_loaded_is_one_line(typed_scenario, tmp_path):
+def test_an_fmu_whose_binary_cannot_be_loaded_is_one_line(typed_scenario, tmp_path, monkeypatch):
     """typed.fmu passes validate (its modelDescription is sound) but its binary is text: the run
     names the FMU and the loader's reason (was exit 3 and FMPy's 'Failed to load shared library')."""
+    monkeypatch.chdir(tmp_path)  # FMPy stays in the binary's folder when loading fails: undone after the test
     one_line(["run", typed_scenario, "--out", tmp_path / "o", "--no-plots"], CORPUS / "fmus" / "typed.fmu",
              "component t", "typed.fmu: its binary cannot be loaded: file too short", "give an FMU whose binary")

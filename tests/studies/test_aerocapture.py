@@ -13,6 +13,7 @@ from aotv_cosim.guidance.lift_to_bank import bank_for_lift
 from aotv_cosim.physics import aerocapture_vehicles as av
 from aotv_cosim.physics import bank_actuator, density_profile, us76
 from aotv_cosim.studies.aerocapture_corridor import model_of
+from tests.helpers import SCENARIOS
 
 
 def _geometric(h_geopotential):
@@ -158,13 +159,11 @@ def test_npc_bank_converges_at_the_nominal_entry():
 
 @pytest.mark.integration
 def test_limits_are_counted_and_absent_from_a_set_without_them():
-    from pathlib import Path
-
     from aotv_cosim.campaigns import limits
 
-    seed_set = sorted(Path("scenarios/benchmark_seed000").glob("*.json"))
-    assert limits.of_set(seed_set) == {} and limits.columns({}) == []  # the seed-000 scorecard is unchanged
-    stated = limits.of_set(sorted(Path("scenarios/benchmark_aerocapture/afe").glob("*.json")))
+    seed_set = sorted((SCENARIOS / "benchmark_seed000").glob("*.json"))
+    assert seed_set and limits.of_set(seed_set) == {} and limits.columns({}) == []  # the seed-000 scorecard is unchanged
+    stated = limits.of_set(sorted((SCENARIOS / "benchmark_aerocapture" / "afe").glob("*.json")))
     assert stated == {"load_factor": 5.0, "heat_rate": 1.0e6, "dynamic_pressure": 20000.0}
     rows = [{"status": "completed", "outcome.peak_load_factor": g, "outcome.peak_heat_rate": 5e5,
              "max.vehicle.qbar": q, "outcome.saturation_time": 10.0, "exit.time": 300.0,
