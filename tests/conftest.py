@@ -1,4 +1,5 @@
-"""Shared fixtures: paths, a scenario loader and a tiny fault-injection FMU."""
+"""Shared fixtures (a scenario loader, a tiny fault-injection FMU, the package FMUs built once) and
+the selection rules of the `slow` and `integration` markers (pyproject.toml registers them)."""
 
 import os
 
@@ -11,15 +12,36 @@ from pathlib import Path  # noqa: E402
 
 import pytest  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
-SCENARIOS = ROOT / "scenarios"
-NOMINAL = SCENARIOS / "aotv_time_linear_nominal.json"
-WIRING = SCENARIOS / "systems" / "aotv_time_linear.json"
+from tests.helpers import NOMINAL, WIRING, drawing  # noqa: E402
 
 
-def write_json(path: Path, data) -> Path:
-    path.write_text(json.dumps(data, indent=2))
-    return path
+def pytest_collection_modifyitems(config, items):
+    """Slow studies stay out of every run whose -m expression does not name `slow`: the default
+    run, and also `-m "not integration"` or `-m integration` (a -m on the command line replaces
+    one given in addopts, so this cannot be left to addopts)."""
+    if "slow" in config.getoption("markexpr"):
+        return
+    slow = [item for item in items if item.get_closest_marker("slow")]
+    if slow:
+        config.hook.pytest_deselected(items=slow)
+        items[:] = [item for item in items if not item.get_closest_marker("slow")]
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """{absolute path: Drawing} of every figure this process saves during the test, taken just
+    before it is written: what the PNG shows, not only that it exists."""
+    from matplotlib.figure import Figure
+
+    saved = {}
+    original = Figure.savefig
+
+    def savefig(fig, fname, *args, **kwargs):
+        saved[Path(fname).resolve()] = drawing(fig)
+        return original(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    return saved
 
 
 @pytest.fixture
@@ -78,10 +100,12 @@ def faulty_fmu(tmp_path_factory):
 
 
 @pytest.fixture(scope="session", autouse=True)
-def built_fmus():
-    """Every FMU of fmus_src built before the first test. A first build reports its progress on
-    the terminal, which tests of one-line errors and of printed file lists must not read (the
-    progress itself is tested with an empty cache in test_cli_results.py)."""
-    from aotv_cosim.fmu import build
+def built_fmus(request):
+    """Every FMU of fmus_src built before the first test, when an integration test is to run (the
+    others need none). A first build reports its progress on the terminal, which tests of one-line
+    errors and of printed file lists must not read (the progress itself is tested with an empty
+    cache in output/test_cli_results.py)."""
+    if any(item.get_closest_marker("integration") for item in request.session.items):
+        from aotv_cosim.fmu import build
 
-    build.build_all()
+        build.build_all()
