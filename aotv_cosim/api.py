@@ -18,7 +18,7 @@ from typing import Iterable, Mapping, Optional, Sequence, Union
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.variables import describe
-from aotv_cosim.engine.result import Campaign, Result
+from aotv_cosim.output.result_types import Campaign, Result
 
 PathLike = Union[str, os.PathLike]
 """A file or folder path."""
@@ -41,7 +41,7 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
     """Run one scenario, as `aotv-cosim run` does.
 
     Parameters:
-        scenario: a scenario file (or an .ssp archive) path, or a loaded `engine.scenario.Scenario`.
+        scenario: a scenario file (or an .ssp archive) path, or a loaded `model.scenario.Scenario`.
         set: overrides of parameters and unconnected inputs (`Overrides`).
         start, stop, step: times in s overriding the scenario's; with start or stop overridden,
             only the expectations at the event are checked.
@@ -59,7 +59,7 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
     Raises:
         errors.InputError: bad input, with the command line's one-line message.
     """
-    from aotv_cosim.engine.runner import simulate, write_run
+    from aotv_cosim.output.runner import simulate, write_run
 
     if out is None and plots:
         raise InputError("plots need an output folder", entry="plots", fix="give out=FOLDER, or plots=False")
@@ -98,7 +98,7 @@ def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int 
 
     from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.campaigns.backends import usable_cores
-    from aotv_cosim.engine.scenario import Scenario
+    from aotv_cosim.model.scenario import Scenario
 
     path = scenario.path if isinstance(scenario, Scenario) else Path(scenario)
     if workers is None:
@@ -221,8 +221,9 @@ def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.
 def _scenario(scenario, sets, start, stop, step):
     """A loaded Scenario with the overrides applied (a path is loaded with them, its FMUs built
     when missing or stale)."""
-    from aotv_cosim.engine.scenario import Scenario, check_times, load_scenario
-    from aotv_cosim.engine.system import with_values
+    from aotv_cosim.model.scenario import Scenario, check_times
+    from aotv_cosim.simulation.loading import load_scenario
+    from aotv_cosim.model.system import with_values
     from aotv_cosim.fmu.build import built_fmu
 
     if not isinstance(scenario, Scenario):

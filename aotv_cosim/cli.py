@@ -16,7 +16,7 @@ import click
 
 from aotv_cosim import cli_console as console
 from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
-from aotv_cosim.engine import interrupts
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.errors import AotvError, InputError, SimulationError, ValidationFailed
 from aotv_cosim.paths import writable_file, writable_folder
 from aotv_cosim.status import Status
@@ -83,7 +83,7 @@ def main(debug):
 
 
 def _run_one(scenario, out_dir, plots, formats=("csv",), fmi_calls=None):
-    from aotv_cosim.engine.runner import run_scenario
+    from aotv_cosim.output.runner import run_scenario
 
     bar, update = console.progress_bar(scenario)
     try:
@@ -143,7 +143,8 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
     SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
-    from aotv_cosim.engine.scenario import load_scenario, parse_sets
+    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.simulation.loading import load_scenario
 
     def body():
         loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets, file=scenario), step, start, stop)),
@@ -196,7 +197,7 @@ def check(paths, out, start, stop):
 
     Every scenario found is loaded and validated before the first one runs; each result line
     starts with its N/M count."""
-    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.simulation.loading import load_scenario
 
     def body():
         files = []
@@ -232,8 +233,8 @@ def check(paths, out, start, stop):
 def validate(files):
     """Check scenario, wiring or comparison FILES without running them."""
     from aotv_cosim.studies.compare import load_comparison
-    from aotv_cosim.engine.scenario import load_scenario
-    from aotv_cosim.engine.system import load_system
+    from aotv_cosim.simulation.loading import load_scenario
+    from aotv_cosim.simulation.loading import load_system
     from aotv_cosim.fmu.build import built_fmu
 
     loaders = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
@@ -262,7 +263,7 @@ def _kind(path):
 
     A file that cannot be read or parsed, or is no regular file (a FIFO would block), counts as
     a scenario: its loader reports the problem."""
-    from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.model.documents import strict_json
     from aotv_cosim.paths import MAX_DOCUMENT_BYTES, regular_file
 
     try:
@@ -331,7 +332,7 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report_tables import console_table
     from aotv_cosim.campaigns import run_campaign
-    from aotv_cosim.engine.scenario import parse_sets
+    from aotv_cosim.model.scenario import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
@@ -417,7 +418,7 @@ def sweep(scenario, grids, workers, sets, out):
     outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
     from aotv_cosim.campaigns.units import display
     from aotv_cosim.campaigns.sweep import run_sweep
-    from aotv_cosim.engine.scenario import parse_sets
+    from aotv_cosim.model.scenario import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-sweep"
@@ -483,7 +484,8 @@ def corridor(scenario, lift_to_drag, tolerance, bracket, out):
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 def export_ssp(scenario, out, sets, step):
     """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
-    from aotv_cosim.engine.scenario import load_scenario, parse_sets
+    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.simulation.loading import load_scenario
     from aotv_cosim.ssp.export import default_experiment, export_ssp as write_ssp
 
     def body():
@@ -575,8 +577,8 @@ def figures_seed002(run_dir, out, scenario):
     def body():
         folder, target = run_dir, out
         if run_dir is None:
-            from aotv_cosim.engine.runner import run_scenario
-            from aotv_cosim.engine.scenario import load_scenario
+            from aotv_cosim.output.runner import run_scenario
+            from aotv_cosim.simulation.loading import load_scenario
 
             target = Path(out or "results/seed002_figures")
             folder = target / "run"

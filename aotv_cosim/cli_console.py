@@ -27,7 +27,7 @@ def finish_bar(bar, summary, start):
     """Put the bar at 100 % of the simulated span when a stop condition ended the run, and keep a
     bar that says why a run stopped early (stop condition, failure, interruption) when it is
     closed. A bar never shown (a run shorter than its delay) stays hidden. `summary`: the run's
-    `engine.summary.RunSummary`."""
+    `output.summary.RunSummary`."""
     if Status(summary.status).ended_cleanly and summary.end_time is not None:
         bar.total = bar.n = round(summary.end_time - start, 6)
     if summary.stop_reason != "stop time reached":
@@ -37,7 +37,7 @@ def finish_bar(bar, summary, start):
 
 def print_summary(summary, out_dir):
     """The run's status, its signals' final values and extrema and its expectations
-    (`summary`: its `engine.summary.RunSummary`)."""
+    (`summary`: its `output.summary.RunSummary`)."""
     click.echo(f"{Path(summary.scenario).name}: {summary.status} ({summary.stop_reason}), "
                f"{summary.steps} steps in {summary.wall_time_s:.3f} s")
     print_failure(summary)
@@ -79,7 +79,7 @@ def _shown(value) -> str:
 
 def print_failure(summary):
     """The failure line, the failing FMU's last log message, and any warnings (on stderr) of a
-    run's `engine.summary.RunSummary`."""
+    run's `output.summary.RunSummary`."""
     if summary.error:
         click.echo(f"  failure: {summary.error}")
         log = (summary.error_detail or {}).get("fmu_log") or []

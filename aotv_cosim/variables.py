@@ -56,9 +56,11 @@ def _with_items(variable) -> str:
 def describe(target) -> pd.DataFrame:
     """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a .py FMU source
     (built first, `fmu.build.ensure_fmu`), a wiring or a scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
-    from aotv_cosim.engine.scenario import Scenario, load_scenario
-    from aotv_cosim.engine.fmu_file import read_fmu, resolve_fmu
-    from aotv_cosim.engine.system import System, load_system
+    from aotv_cosim.model.scenario import Scenario
+    from aotv_cosim.simulation.loading import load_scenario
+    from aotv_cosim.model.fmu_file import read_fmu, resolve_fmu
+    from aotv_cosim.model.system import System
+    from aotv_cosim.simulation.loading import load_system
     from aotv_cosim.fmu.build import built_fmu
 
     if isinstance(target, Scenario):
@@ -81,7 +83,7 @@ def describe(target) -> pd.DataFrame:
 
 def _document(path) -> dict:
     """The JSON object in `path`, or {} if it is none (the wiring loader then says what is wrong)."""
-    from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.model.documents import strict_json
 
     try:
         doc = strict_json(Path(path).read_text(encoding="utf-8"))

@@ -19,8 +19,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from aotv_cosim.engine.master import Master  # noqa: E402
-from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
+from aotv_cosim.simulation.master import Master  # noqa: E402
+from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 from bench_libcosim import with_wrapper  # noqa: E402
 
 NOMINAL = ROOT / "scenarios" / "aotv_time_linear_nominal.json"

@@ -27,8 +27,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from aotv_cosim.engine.master import Master  # noqa: E402
-from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
+from aotv_cosim.simulation.master import Master  # noqa: E402
+from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 from aotv_cosim.fmu.build import ensure_fmu  # noqa: E402
 
 BUILD = "import sys; from aotv_cosim.fmu.build import ensure_fmu; print(*(ensure_fmu(n) for n in sys.argv[1:]))"

@@ -26,8 +26,8 @@ import time
 from pathlib import Path
 from types import SimpleNamespace
 
-from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.master import Master
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.fmu import native
 from aotv_cosim.ssp.export import export_ssp
 

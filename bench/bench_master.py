@@ -16,12 +16,12 @@ from types import SimpleNamespace
 
 from fmpy.fmi2 import FMU2Slave
 
-from aotv_cosim.engine import ordering
-from aotv_cosim.engine.fmi_instance import extracted
-from aotv_cosim.engine.master import Master
+from aotv_cosim.simulation import ordering
+from aotv_cosim.simulation.fmi_instance import extracted
+from aotv_cosim.simulation.master import Master
 from aotv_cosim.studies.reference import reference_run
-from aotv_cosim.engine.runner import recorded_columns
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import recorded_columns
+from aotv_cosim.simulation.loading import load_scenario
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "aotv_time_linear_nominal.json"
 

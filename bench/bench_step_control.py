@@ -1,5 +1,5 @@
 """Cost against accuracy: fixed communication steps (held and extrapolated inputs) and
-error-controlled steps (step doubling, `engine.step_doubling`), on two cases.
+error-controlled steps (step doubling, `simulation.step_doubling`), on two cases.
 
     python bench/bench_step_control.py [--case nominal|entry|both] [--repeat N]
 
@@ -12,7 +12,7 @@ error-controlled steps (step doubling, `engine.step_doubling`), on two cases.
 Cost is the CPU time of the whole run (this process, instantiation included; median of
 --repeat runs) and the number of sweeps (one sweep steps every FMU once; with a tolerance, every
 sweep made: attempts, rejected steps, coarse runs). Each error-controlled line is run with the
-local check and with the global one (`engine.step_doubling`), and compared with the best fixed step of
+local check and with the global one (`simulation.step_doubling`), and compared with the best fixed step of
 the same error: the two extrapolated fixed steps whose errors bracket it are run again right
 after it, and their CPU interpolated in log(error)-log(CPU) (blank outside the curve); the
 ratio is the median over --repeat such rounds, so it does not drift with the machine's speed
@@ -32,8 +32,8 @@ from types import SimpleNamespace
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT)]
 
-from aotv_cosim.engine.master import Master  # noqa: E402
-from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
+from aotv_cosim.simulation.master import Master  # noqa: E402
+from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 from aotv_cosim.studies.reference import reference_run  # noqa: E402
 
 CASES = {

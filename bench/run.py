@@ -45,9 +45,9 @@ sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
 from timing import machine  # noqa: E402
 
-from aotv_cosim.engine.master import Master  # noqa: E402
+from aotv_cosim.simulation.master import Master  # noqa: E402
 from aotv_cosim.studies.reference import reference_run  # noqa: E402
-from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
+from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 
 SCENARIOS = ROOT / "scenarios"
 NOMINAL = SCENARIOS / "aotv_time_linear_nominal.json"

@@ -9,15 +9,15 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "aotv_cosim"
 
-LAYERS = ("errors", "paths", "status", "physics", "guidance", "fmu", "laws", "mission", "engine", "ssp", "variables",
+LAYERS = ("errors", "paths", "status", "physics", "guidance", "fmu", "laws", "mission", "model", "simulation", "output", "ssp", "variables",
           "studies", "campaigns", "api", "cli_usage", "cli_console", "cli", "__main__")
 """Bottom to top: each unit (a subpackage or a top-level module) may import its own modules and
 the units before it. errors and paths: what every layer reports and checks input files with;
 status: how a run ended;
 physics and guidance: the equations and laws (FMUs bundle them); fmu: the FMU side (adapter
-bases, build); mission: what a run achieved (capture class, apogee, correction dv); engine:
-loading systems and scenarios (wiring JSON or SSP) and running them; ssp: export and third-party
-hosts; variables (the describe table), studies, campaigns: built on runs; api and cli: the two faces."""
+bases, build); mission: what a run achieved (capture class, apogee, correction dv); model:
+systems and scenarios read from wiring JSON or SSP; simulation: instances, coupling and the
+master's loops; output: run files, summary and plots; ssp: export and third-party hosts; variables (the describe table), studies, campaigns: built on runs; api and cli: the two faces."""
 
 
 def _unit(module: str) -> str:
@@ -55,3 +55,17 @@ def test_imports_go_only_downward():
     upward = {(unit, target) for unit, targets in imports_by_unit().items() for target in targets
               if LAYERS.index(target) > LAYERS.index(unit)}
     assert not upward, sorted(upward)
+
+
+def test_loading_never_builds():
+    """The model layer names no FMU build: it takes a resolver (`simulation.loading` gives the
+    building one)."""
+    building = {"built_fmu", "ensure_fmu", "build_all", "_pythonfmu_build"}
+    named = {(path.name, node.id if isinstance(node, ast.Name) else node.attr)
+             for path in (PACKAGE / "model").rglob("*.py") for node in ast.walk(ast.parse(path.read_text()))
+             if isinstance(node, (ast.Name, ast.Attribute))
+             and (node.id if isinstance(node, ast.Name) else node.attr) in building}
+    named |= {(path.name, alias.name) for path in (PACKAGE / "model").rglob("*.py")
+              for node in ast.walk(ast.parse(path.read_text())) if isinstance(node, ast.ImportFrom)
+              for alias in node.names if alias.name in building}
+    assert named == set()

@@ -14,7 +14,7 @@ import time
 
 from threadpoolctl import threadpool_limits
 
-from aotv_cosim.engine import watchdog
+from aotv_cosim.simulation import watchdog
 from aotv_cosim.errors import SimulationError
 from aotv_cosim.campaigns.orphans import terminate, worker_started
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS, WorkerLost, WorkerPool
@@ -131,7 +131,7 @@ def _completed(client, futures, patience):
 def dask(ref: ScenarioRef, batches, address, columns, patience=NO_WORKER_PATIENCE, keep_series=False):
     """Yield row lists of the scenario `ref` from the Dask scheduler at `address` (a Client object is accepted too);
     fail after `patience` s without a worker (`_completed`). Dask runs tasks in worker threads,
-    where the step watchdog cannot interrupt a step (`engine.watchdog`); a crashed worker is
+    where the step watchdog cannot interrupt a step (`simulation.watchdog`); a crashed worker is
     restarted by its nanny and its runs retried here."""
     from distributed import Client
 

@@ -28,8 +28,8 @@ from aotv_cosim.mission.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.results import write_json_atomically
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.status import Status
 
 PERCENT = (0.135, 50.0, 99.865)
@@ -123,7 +123,7 @@ def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
 
 def _is_wiring(path: Path) -> bool:
     """True if the JSON file `path` is a wiring (it has components), not a scenario."""
-    from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.model.documents import strict_json
 
     try:
         doc = strict_json(path.read_text(encoding="utf-8"))
@@ -135,7 +135,7 @@ def _is_wiring(path: Path) -> bool:
 def _flown_with(template: Path, wiring: Path, folder: Path) -> Path:
     """The template scenario with its "system" replaced by `wiring`, written to folder/<law>.json
     (every relative path of the template made absolute)."""
-    from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.model.documents import strict_json
 
     doc = strict_json(template.read_text(encoding="utf-8"))
     doc.pop("$schema", None)
@@ -154,7 +154,7 @@ def campaign_key(scenario_path, scenario, runs: int, seed: int) -> str:
     paths or description), each component's FMU GUID, parameter values and the connections,
     the dispersions, the seed and N (`scenario`: the file `scenario_path` loaded). Equal keys give
     equal rows, so stored rows are reused."""
-    from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.model.documents import strict_json
 
     doc = strict_json(Path(scenario_path).read_text(encoding="utf-8"))
     settings = {k: v for k, v in doc.items() if k not in ("$schema", "description", "system", "dispersion_set")}

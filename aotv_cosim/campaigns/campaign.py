@@ -5,9 +5,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional
 
-from aotv_cosim.engine import interrupts, plausibility, watchdog
+from aotv_cosim.simulation import interrupts, watchdog
+
+from aotv_cosim.output import plausibility
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.master import Interrupted
+from aotv_cosim.simulation.master import Interrupted
 from aotv_cosim.campaigns import backends, campaign_report, report
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS
@@ -15,9 +17,9 @@ from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
-from aotv_cosim.engine.outdir import claimed
-from aotv_cosim.engine.results import write_json_atomically
-from aotv_cosim.engine.scenario import Scenario
+from aotv_cosim.output.outdir import claimed
+from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.model.scenario import Scenario
 from aotv_cosim.status import Status
 
 

@@ -16,7 +16,7 @@ def check_resumable(out_dir) -> None:
     """Refuse `--resume` on a folder whose campaign.json is not a JSON object or whose rows.csv
     cannot be read back (not UTF-8 text, not CSV, a complete row with a cell that is no number
     where the store writes numbers). A missing file is fine: the campaign starts afresh."""
-    from aotv_cosim.engine.documents import strict_json
+    from aotv_cosim.model.documents import strict_json
     from aotv_cosim.campaigns.store import INTEGER, TEXT
 
     out_dir = Path(out_dir)

@@ -28,10 +28,10 @@ import json
 import math
 from pathlib import Path
 
-from aotv_cosim.engine.documents import strict_json
+from aotv_cosim.model.documents import strict_json
 from aotv_cosim.errors import InputError, SimulationError
-from aotv_cosim.engine.results import write_json_atomically
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.status import Status
 
 LIFT = "corridor_lift"

@@ -12,7 +12,7 @@ import os
 import signal
 import sys
 
-from aotv_cosim.engine import interrupts
+from aotv_cosim.simulation import interrupts
 
 PR_SET_PDEATHSIG = 1
 

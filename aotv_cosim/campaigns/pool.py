@@ -32,8 +32,8 @@ import signal
 import time
 from multiprocessing import connection
 
-from aotv_cosim.engine import interrupts, watchdog
-from aotv_cosim.engine.interrupts import Interrupted
+from aotv_cosim.simulation import interrupts, watchdog
+from aotv_cosim.simulation.interrupts import Interrupted
 
 POLL = 0.2
 """Seconds between two looks at the workers' steps and memory, and at the interruption flag."""

@@ -5,7 +5,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Mapping, Optional
 
-from aotv_cosim.engine.scenario import Scenario, load_scenario
+from aotv_cosim.model.scenario import Scenario
+
+from aotv_cosim.simulation.loading import load_scenario
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ speed and against time, in km and km/s.
 
 from pathlib import Path
 
-from aotv_cosim.engine.series import TIME_UNIT
+from aotv_cosim.output.series import TIME_UNIT
 
 
 def write_series(out: Path, series: dict, scenario, ref, make_plots) -> list:

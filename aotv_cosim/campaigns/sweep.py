@@ -23,10 +23,10 @@ from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
-from aotv_cosim.engine import interrupts
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.master import Interrupted
-from aotv_cosim.engine.results import write_json_atomically
+from aotv_cosim.simulation.master import Interrupted
+from aotv_cosim.output.run_files import write_json_atomically
 from aotv_cosim.status import Status
 
 

@@ -2,7 +2,7 @@
 display units plots and console tables show them in."""
 
 from aotv_cosim.mission.outcome_rows import UNITS as OUTCOME_UNITS
-from aotv_cosim.engine.series import TIME_UNIT
+from aotv_cosim.output.series import TIME_UNIT
 
 NO_UNIT = {"run": "", "status": "", "error": "", "steps": "1"}
 """Columns that are not physical quantities: an index, texts, a count."""

@@ -12,8 +12,8 @@ import numpy as np
 
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.mission import outcome_rows
-from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.runner import numeric_columns
+from aotv_cosim.simulation.master import Master
+from aotv_cosim.output.runner import numeric_columns
 from aotv_cosim.status import Status
 
 _LOCAL = threading.local()
@@ -37,7 +37,7 @@ SERIES_POINTS = 200
 
 
 class _Extrema:
-    """A run's recorder (`engine.rows.Recorder`) keeping only the last row and running min/max of
+    """A run's recorder (`simulation.rows.Recorder`) keeping only the last row and running min/max of
     `signals`, and, when `spacing` (s) is given, the rows at least that far apart in time (`series`)."""
 
     def __init__(self, master, signals, spacing=None):
@@ -75,7 +75,7 @@ class Runner:
 
     def __init__(self, ref: ScenarioRef, keep_series=False, step_limit=None):
         """keep_series: keep each run's recorded signals, decimated (`SERIES_POINTS`); step_limit:
-        the campaign's wall-clock limit per step, s (`engine.watchdog`; None: the scenario's)."""
+        the campaign's wall-clock limit per step, s (`simulation.watchdog`; None: the scenario's)."""
         self.scenario = ref.load()
         if step_limit is not None:
             self.scenario.step_timeout = step_limit

@@ -185,7 +185,7 @@ def built_hash(fmu: Path):
 
 
 def built_fmu(ref) -> Path:
-    """The FMU resolver that builds (`engine.fmu_file.FmuResolver`): the up-to-date .fmu of a
+    """The FMU resolver that builds (`model.fmu_file.FmuResolver`): the up-to-date .fmu of a
     name of fmus_src or of a user's FMU source `ref` (a path ending in .py), built into the cache
     when missing or stale (`ensure_fmu`). InputError for a name fmus_src has not, naming close ones."""
     if not is_source_path(ref):

@@ -274,7 +274,7 @@ class AotvSlave(Fmi2Slave):
     def parameter(self, name, start, unit, description, tunable=False, min=None, max=None, nominal=None):
         """Declare a Real parameter `name` (attribute of the same name) in `unit`, optionally
         within [min, max] (SI, inclusive); `nominal`: its typical magnitude (FMI nominal), from
-        which the master warns about a value given in the wrong unit (`engine.plausibility`)."""
+        which the master warns about a value given in the wrong unit (`output.plausibility`)."""
         setattr(self, name, float(start))
         if nominal is not None:
             self._nominals[name] = float(nominal)

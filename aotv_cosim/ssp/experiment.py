@@ -21,7 +21,7 @@ def reachable_stop(scenario) -> float:
     does not complete)."""
     if not scenario.stop_conditions:
         return scenario.stop
-    from aotv_cosim.engine.runner import run_scenario
+    from aotv_cosim.output.runner import run_scenario
 
     with tempfile.TemporaryDirectory(prefix="aotv_export_") as tmp:
         summary = run_scenario(scenario, Path(tmp), make_plots=False)

@@ -32,7 +32,7 @@ from aotv_cosim import __version__
 from aotv_cosim.errors import BuildError, InputError
 from aotv_cosim.fmu.build import write_reproducible_zip
 from aotv_cosim.ssp.experiment import reachable_stop
-from aotv_cosim.engine.ssp_names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
+from aotv_cosim.model.ssp_names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, q,
                                 schema_problems)
 
 KINDS = ("parameter", "input", "output")

@@ -21,14 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from aotv_cosim.engine.documents import load_document
+from aotv_cosim.model.documents import load_document
 from aotv_cosim.errors import InputError
 from aotv_cosim.fmu.build import built_fmu
 from aotv_cosim.status import Status
 from aotv_cosim.physics.planar import EXIT_000
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import Scenario, StopCondition
-from aotv_cosim.engine.system import load_system
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.model.scenario import Scenario, StopCondition
+from aotv_cosim.simulation.loading import load_system
 
 SIGNALS = ("vehicle.h", "vehicle.v", "vehicle.gamma", "vehicle.qdot", "vehicle.int_u2",
            "vehicle.apogee_alt", "vehicle.dv_circ", "guidance.u")
@@ -101,7 +101,7 @@ def _read_series(folder: Path):
 
 
 def summarize(label, fmu, summary, columns, rows, exit_target) -> dict:
-    """One table row (see COLUMNS) from a law's run: its `engine.summary.RunSummary` and recorded rows."""
+    """One table row (see COLUMNS) from a law's run: its `output.summary.RunSummary` and recorded rows."""
     col = {name: rows[:, k] for k, name in enumerate(columns)}
     event = summary.event
     at_exit = event["values"] if event else {s: summary.final[s] for s in columns}

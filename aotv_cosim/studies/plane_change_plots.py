@@ -123,8 +123,8 @@ def run_guided(out: Path, scenario_path: Path = SCENARIO):
 
     Returns ({signal: array, 'time': array}, exit speed in m/s interpolated at the 60 km crossing).
     """
-    from aotv_cosim.engine.runner import run_scenario
-    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.output.runner import run_scenario
+    from aotv_cosim.simulation.loading import load_scenario
 
     run_dir = out / "guided"
     summary = run_scenario(load_scenario(scenario_path), run_dir, make_plots=False)

@@ -44,8 +44,8 @@ def laws(out: Path, scenarios: Path, progress=None) -> list:
 
 def table_8_1(scenarios: Path, progress=None) -> list:
     """[{row, K, quantity, unit, thesis, measured, rel_error, passed}] of the Table 8.1 scenarios."""
-    from aotv_cosim.engine.runner import simulate
-    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.output.runner import simulate
+    from aotv_cosim.simulation.loading import load_scenario
 
     rows = []
     for path in sorted(scenarios.glob("aotv_table8_1_row*.json")):

@@ -21,8 +21,8 @@ import numpy as np  # noqa: E402
 
 from aotv_cosim.physics import shuttle_trajectory as st  # noqa: E402
 from aotv_cosim.physics.shuttle_pitch import FT  # noqa: E402
-from aotv_cosim.engine.runner import run_scenario  # noqa: E402
-from aotv_cosim.engine.scenario import load_scenario  # noqa: E402
+from aotv_cosim.output.runner import run_scenario  # noqa: E402
+from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 from aotv_cosim.studies.shipped import scenarios_dir  # noqa: E402
 
 SCENARIOS = scenarios_dir()

@@ -11,7 +11,7 @@ from aotv_cosim.mission.outcome_rows import UNITS, counts
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import Runner
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import SCENARIOS, write_json
 
 pytestmark = pytest.mark.integration

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from aotv_cosim.campaigns import run_campaign
-from aotv_cosim.engine import watchdog
+from aotv_cosim.simulation import watchdog
 from tests.helpers import SCENARIOS, start_process, write_json
 from tests.helper_fmus.misbehaving import build_misbehaving
 

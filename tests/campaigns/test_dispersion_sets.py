@@ -5,9 +5,9 @@ import json
 import pytest
 
 from aotv_cosim.campaigns.draws import draw
-from aotv_cosim.engine.documents import schema
+from aotv_cosim.model.documents import schema
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import SCENARIOS, write_json
 
 BENCH = SCENARIOS / "benchmark_seed000"

@@ -16,7 +16,8 @@ from aotv_cosim.campaigns import run_campaign
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.report import ellipse_3sigma
-from aotv_cosim.engine.scenario import Dispersion, load_scenario
+from aotv_cosim.model.scenario import Dispersion
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import SCENARIOS, write_json
 
 CAMPAIGN = SCENARIOS / "montecarlo_time_linear_density.json"
@@ -159,7 +160,7 @@ def test_fmus_run_in_this_process_do_not_shadow_the_package_for_spawned_workers(
     process spawned afterwards (a Dask worker) would import that copy instead of the package."""
     import sys
 
-    from aotv_cosim.engine.master import Master
+    from aotv_cosim.simulation.master import Master
 
     Master(load_scenario(CAMPAIGN)).run(SimpleNamespace(record=lambda times, rows: None))
     first = next(p for p in sys.path if (Path(p or ".") / "aotv_cosim" / "__init__.py").is_file())

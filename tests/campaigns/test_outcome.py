@@ -12,8 +12,8 @@ from aotv_cosim.mission.outcome import (
 from aotv_cosim.physics import orbit
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 from aotv_cosim.physics.orbit_correction import circularization_corrections
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 
 from tests.helpers import SCENARIOS
 

@@ -192,7 +192,7 @@ def test_libcosim_steps_lean_and_stock_fmus_to_the_same_values(tmp_path, monkeyp
     worker threads call the FMUs, threads without a Python thread state): same final values to the
     bit."""
     pytest.importorskip("libcosimpy")
-    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.simulation.loading import load_scenario
     from aotv_cosim.ssp import libcosim_run
     from aotv_cosim.ssp.export import export_ssp
     from tests.helpers import SCENARIOS

@@ -66,8 +66,8 @@ def test_an_fmu_logs_through_fmpy_after_this_package_freed_its_instances(tmp_pat
         from fmpy import extract, read_model_description
         from fmpy.fmi1 import FMICallException
         from fmpy.fmi2 import FMU2Slave
-        from aotv_cosim.engine.master import Master
-        from aotv_cosim.engine.scenario import load_scenario
+        from aotv_cosim.simulation.master import Master
+        from aotv_cosim.simulation.loading import load_scenario
         from aotv_cosim.fmu import build
         for _ in range(3):
             Master(load_scenario({str(NOMINAL)!r})).run(SimpleNamespace(record=lambda t, r: None))

@@ -9,11 +9,11 @@ from fmpy.ssp.ssd import read_ssd, read_ssv
 from lxml import etree
 
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.ssp.export import export_ssp
-from aotv_cosim.engine.ssp_names import NS, schema_dir
-from aotv_cosim.engine.system import load_system
+from aotv_cosim.model.ssp_names import NS, schema_dir
+from aotv_cosim.simulation.loading import load_system
 from aotv_cosim.fmu.build import built_fmu
 from tests.helpers import NOMINAL, WIRING, error_lines, invoke, write_json
 

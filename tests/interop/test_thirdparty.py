@@ -33,8 +33,8 @@ from pathlib import Path
 import pytest
 
 from aotv_cosim.fmu.build import cache_dir
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.ssp import ecos_run, libcosim_run
 from aotv_cosim.ssp.export import export_ssp
 from tests.helpers import SCENARIOS

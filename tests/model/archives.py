@@ -3,7 +3,7 @@ SSP archives exported from the nominal scenario and rewritten member by member."
 
 import zipfile
 
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.ssp.export import export_ssp
 from tests.helpers import NOMINAL, ROOT
 

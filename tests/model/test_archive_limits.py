@@ -8,12 +8,12 @@ import zipfile
 
 import pytest
 
-from aotv_cosim.engine import archives
+from aotv_cosim.model import archives
 from aotv_cosim.fmu import build as fmu_build
-from aotv_cosim.engine.documents import strict_json
+from aotv_cosim.model.documents import strict_json
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.ssp_load import extract, read_ssp
-from aotv_cosim.engine.fmu_file import check_archive
+from aotv_cosim.model.ssp_load import extract, read_ssp
+from aotv_cosim.model.fmu_file import check_archive
 from tests.helpers import one_line
 from tests.model.archives import SSD, rewritten
 

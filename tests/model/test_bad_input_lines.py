@@ -8,7 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 from aotv_cosim.cli import main
-from aotv_cosim.engine.archives import extract_to
+from aotv_cosim.model.archives import extract_to
 from aotv_cosim.errors import InputError
 from tests.helpers import NOMINAL, SCENARIOS
 from tests.model.archives import CORPUS

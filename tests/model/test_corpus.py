@@ -109,7 +109,7 @@ def test_schemas_serve_editors(kind):
     file names a schema in "$schema", wiring files those of systems/ and scenarios the others."""
     import jsonschema
 
-    from aotv_cosim.engine.documents import schema
+    from aotv_cosim.model.documents import schema
 
     doc = schema(kind)
     jsonschema.Draft202012Validator.check_schema(doc)

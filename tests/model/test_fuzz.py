@@ -13,10 +13,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from aotv_cosim.engine.documents import load_document
+from aotv_cosim.model.documents import load_document
 from aotv_cosim.errors import AotvError
-from aotv_cosim.engine.scenario import load_scenario
-from aotv_cosim.engine.system import load_system
+from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.simulation.loading import load_system
 from aotv_cosim.fmu.build import built_fmu
 from tests.helpers import NOMINAL, WIRING
 

@@ -230,7 +230,7 @@ def test_damaged_fmus_are_refused_on_load(tmp_path, damage, message):
 
 @pytest.mark.integration
 def test_the_shipped_fmus_pass_the_member_checks():
-    from aotv_cosim.engine.fmu_file import read_fmu
+    from aotv_cosim.model.fmu_file import read_fmu
 
     for name in ("Atmosphere", "PointMassVehicle"):
         read_fmu(fmu_build.ensure_fmu(name), file=WIRING, entry=name)

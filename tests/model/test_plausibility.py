@@ -6,8 +6,8 @@ from click.testing import CliRunner
 
 import aotv_cosim
 from aotv_cosim.cli import main
-from aotv_cosim.engine.plausibility import _hint
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.plausibility import _hint
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import NOMINAL, SCENARIOS
 
 

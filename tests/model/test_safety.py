@@ -8,8 +8,8 @@ import pytest
 
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.scenario import load_scenario
-from aotv_cosim.engine.fmu_file import check_archive
+from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.model.fmu_file import check_archive
 from tests.helpers import write_json
 
 ESCAPING = ["/etc/aotv_evil", "../evil.txt", "resources/../../evil.txt", "C:/evil.txt",

@@ -6,8 +6,8 @@ import zipfile
 import pytest
 
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.scenario import load_scenario
-from aotv_cosim.engine.system import load_system
+from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.simulation.loading import load_system
 from aotv_cosim.fmu.build import built_fmu
 from tests.helpers import one_line, write_json
 from tests.model.archives import SSD, rewritten, ssd_text
@@ -136,7 +136,7 @@ def test_an_invalid_ssp_algorithm_is_refused(nominal_ssp, tmp_path):
 
 def test_unit_conversion_rules():
     """to_fmu_unit: factor and offset through the base units, plain SI names, refusals."""
-    from aotv_cosim.engine.ssp_units import to_fmu_unit
+    from aotv_cosim.model.ssp_units import to_fmu_unit
 
     m, km = ((0, 1, 0, 0, 0, 0, 0, 0), 1.0, 0.0), ((0, 1, 0, 0, 0, 0, 0, 0), 1000.0, 0.0)
     kelvin, celsius = ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 0.0), ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 273.15)

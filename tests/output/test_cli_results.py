@@ -13,7 +13,7 @@ from tqdm import tqdm
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.cli_console import finish_bar
 from aotv_cosim.studies.compare import format_table, summarize
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.loading import load_scenario
 
 from tests.helpers import NOMINAL, SCENARIOS, WIRING, invoke, write_json
 

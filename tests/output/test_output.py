@@ -13,7 +13,7 @@ import subprocess
 
 import pytest
 
-from aotv_cosim.engine import results
+from aotv_cosim.output import run_files
 from tests.helpers import (NOMINAL, check_whole_rows, cli, relay_scenario, run_process, start_process,
                            wait_for_rows)
 
@@ -119,7 +119,7 @@ def _fills_up(name, room):
 
 
 def test_disk_full_mid_run_keeps_whole_rows_and_a_failed_summary(tmp_path, monkeypatch):
-    monkeypatch.setattr(results, "open", _fills_up("timeseries.csv.part", 150_000), raising=False)
+    monkeypatch.setattr(run_files, "open", _fills_up("timeseries.csv.part", 150_000), raising=False)
     out = tmp_path / "out"
     result = cli("run", relay_scenario(tmp_path, 100.0), "--out", out, "--no-plots")
     assert result.exit_code == 1, result.output
@@ -139,7 +139,7 @@ def test_summary_that_cannot_be_written_leaves_no_empty_part(tmp_path, monkeypat
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return open(path, mode, *args, **kwargs)
 
-    monkeypatch.setattr(results, "open", no_room, raising=False)
+    monkeypatch.setattr(run_files, "open", no_room, raising=False)
     out = tmp_path / "out"
     result = cli("run", relay_scenario(tmp_path, 1.0), "--out", out, "--no-plots")
     assert result.exit_code == 1

@@ -14,10 +14,11 @@ import pytest
 from aotv_cosim.campaigns.report import sample_statistics
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import Runner
-from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.runner import simulate
-from aotv_cosim.engine.scenario import load_scenario
-from aotv_cosim.engine.system import load_system, with_values
+from aotv_cosim.simulation.master import Master
+from aotv_cosim.output.runner import simulate
+from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.model.system import with_values
+from aotv_cosim.simulation.loading import load_system
 from aotv_cosim.errors import InputError, SimulationError
 from aotv_cosim.fmu.build import built_fmu
 from aotv_cosim.status import Status
@@ -79,7 +80,7 @@ def test_a_scenario_ref_loads_what_it_names_and_travels():
 
 def test_loading_builds_nothing_itself(tmp_path):
     """The wiring loaders import no FMU builder; a resolver that only finds built FMUs is enough."""
-    for module in ("engine/system.py", "engine/fmu_file.py"):
+    for module in ("model/system.py", "model/fmu_file.py"):
         tree = ast.parse((PACKAGE / module).read_text())
         imported = [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
         assert not any(m and m.startswith("aotv_cosim.fmu") for m in imported), module

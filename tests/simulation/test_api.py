@@ -12,7 +12,7 @@ import pytest
 
 import aotv_cosim
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.loading import load_scenario
 
 from tests.helpers import NOMINAL, ROOT, SCENARIOS, WIRING
 

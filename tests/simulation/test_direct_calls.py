@@ -1,4 +1,4 @@
-"""Direct in-process calls of this package's FMUs (`engine.direct_instance`) against the C path:
+"""Direct in-process calls of this package's FMUs (`simulation.direct_instance`) against the C path:
 the same timeseries.csv byte for byte, the same failures, the watchdog still ends a hung step,
 and a slave class run as an FMU with no FMU file."""
 
@@ -8,10 +8,10 @@ import math
 
 import pytest
 
-from aotv_cosim.engine.direct_instance import DirectInstance, built_here
-from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.runner import write_run
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
+from aotv_cosim.simulation.master import Master
+from aotv_cosim.output.runner import write_run
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import SCENARIOS
 
 pytestmark = pytest.mark.integration  # builds and runs the package's FMUs

@@ -17,8 +17,8 @@ from click.testing import CliRunner
 from tests.helper_fmus import typed as typed_fmus
 from aotv_cosim.cli import main
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.runner import run_scenario, simulate
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario, simulate
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import one_line, write_json
 
 pytestmark = [pytest.mark.integration, pytest.mark.skipif(not typed_fmus.have_gcc(), reason="no gcc to compile the C test FMU")]

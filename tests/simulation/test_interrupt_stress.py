@@ -22,9 +22,9 @@ import time
 import pytest
 from click.testing import CliRunner
 
-from aotv_cosim.engine import interrupts
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.cli import main
-from aotv_cosim.engine.rows import CHUNK
+from aotv_cosim.simulation.rows import CHUNK
 from tests.helpers import STEP, check_whole_rows, run_process, write_json
 from tests.helper_fmus.signaller import build_signaller
 
@@ -156,9 +156,9 @@ def test_signal_in_slow_fmu_code_takes_effect_at_once(tmp_path, signaller):
 def test_signal_during_a_writer_flush(tmp_path, signaller, monkeypatch, signum):
     """The signal lands in the middle of writing the second chunk: that chunk is written whole
     and the run stops before the next step (2000 rows: the flush follows the 2000th)."""
-    from aotv_cosim.engine import results
+    from aotv_cosim.output import run_files
 
-    write = results.TimeSeriesWriter._write
+    write = run_files.TimeSeriesWriter._write
     calls = []
 
     def interrupted_write(self, data):
@@ -168,7 +168,7 @@ def test_signal_during_a_writer_flush(tmp_path, signaller, monkeypatch, signum):
             sum(k * k for k in range(20000))  # the handler runs here, inside the writer
         return write(self, data)
 
-    monkeypatch.setattr(results.TimeSeriesWriter, "_write", interrupted_write)
+    monkeypatch.setattr(run_files.TimeSeriesWriter, "_write", interrupted_write)
     out = tmp_path / "out"
     with _Strays() as strays:
         rows = _interrupted(_invoke(_scenario(tmp_path, signaller), out), out, signum)
@@ -182,7 +182,7 @@ def test_a_time_without_its_row_is_dropped_at_the_flush():
 
     import numpy as np
 
-    from aotv_cosim.engine.rows import Rows
+    from aotv_cosim.simulation.rows import Rows
 
     class Master:
         values = (ctypes.c_double * 2)(1.0, 2.0)

@@ -6,11 +6,11 @@ import math
 
 import pytest
 
-from aotv_cosim.engine import ordering
+from aotv_cosim.simulation import ordering
 from aotv_cosim.errors import InputError
 from aotv_cosim.studies.reference import reference_run
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import NOMINAL, write_json
 
 pytestmark = pytest.mark.integration

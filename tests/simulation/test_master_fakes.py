@@ -12,9 +12,9 @@ from types import SimpleNamespace
 import pytest
 from pythonfmu import Fmi2Causality, Fmi2Slave, Real
 
-from aotv_cosim.engine.direct_instance import info_of_class
-from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.simulation.direct_instance import info_of_class
+from aotv_cosim.simulation.master import Master
+from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.status import Status
 
 

@@ -1,4 +1,4 @@
-"""Error-controlled communication steps (`engine.step_doubling`, `engine.step_control`).
+"""Error-controlled communication steps (`simulation.step_doubling`, `model.step_control`).
 
 The accuracy checks are against the monolithic SciPy reference (rtol 1e-12), whose own error is
 far below the tolerances asked here; the error budget is the scenario's tolerance itself."""
@@ -10,9 +10,9 @@ from types import SimpleNamespace
 
 import pytest
 
-from aotv_cosim.engine.master import Master
-from aotv_cosim.engine.scenario import load_scenario
-from aotv_cosim.engine.step_control import StepControl
+from aotv_cosim.simulation.master import Master
+from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.model.step_control import StepControl
 from aotv_cosim.studies.reference import reference_run
 from tests.helpers import NOMINAL, SCENARIOS
 
@@ -95,7 +95,7 @@ def test_a_tolerance_out_of_reach_is_a_warning(tmp_path):
 def test_a_failed_coarse_run_means_shorter_steps(tmp_path, monkeypatch):
     """A coarse run whose FMU discards a step (as the seed-002 vehicle does on 100 m asked of the
     downrange) leaves the attempt unchecked: the next one asks a tenth of its tolerances."""
-    from aotv_cosim.engine import step_doubling as step_doubling
+    from aotv_cosim.simulation import step_doubling as step_doubling
     from aotv_cosim.errors import SimulationError
     replay, calls = step_doubling._replay, []
 

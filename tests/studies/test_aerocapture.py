@@ -160,7 +160,7 @@ def test_npc_bank_converges_at_the_nominal_entry():
 @pytest.mark.integration
 def test_limits_are_counted_and_absent_from_a_set_without_them():
     from aotv_cosim.campaigns import limits
-    from aotv_cosim.engine.scenario import load_scenario
+    from aotv_cosim.simulation.loading import load_scenario
 
     def loaded(folder):
         return [(path, load_scenario(path)) for path in sorted(folder.glob("*.json"))]

@@ -18,8 +18,8 @@ from aotv_cosim.studies.compare import load_comparison, run_comparison
 from aotv_cosim.guidance import npc
 from aotv_cosim.physics import orbit, point_mass
 from aotv_cosim.physics.atmosphere import exponential_density
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 
 from tests.helpers import SCENARIOS
 

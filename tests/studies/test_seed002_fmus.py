@@ -12,8 +12,8 @@ import csv
 import pytest
 
 from aotv_cosim.physics import sx2
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 
 from tests.helpers import SCENARIOS
 

@@ -9,8 +9,8 @@ import pytest
 from aotv_cosim.guidance import shuttle_lqr as lqr
 from aotv_cosim.physics import shuttle_trajectory as st
 from aotv_cosim.physics.shuttle_pitch import FT
-from aotv_cosim.engine.runner import run_scenario
-from aotv_cosim.engine.scenario import load_scenario
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
 
 from tests.helpers import SCENARIOS
 

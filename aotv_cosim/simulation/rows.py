@@ -8,7 +8,7 @@ from typing import Protocol
 import numpy as np
 
 from aotv_cosim.errors import SimulationError
-from aotv_cosim.engine.variable_types import typed
+from aotv_cosim.model.variable_types import typed
 
 CHUNK = 1000
 """Communication points recorded between two flushes to the result files."""

@@ -20,9 +20,9 @@ from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFr
 from fmpy import calloc, free
 
 from aotv_cosim.fmu import build as fmu_build
-from aotv_cosim.engine.archives import extract_to
+from aotv_cosim.model.archives import extract_to
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
-from aotv_cosim.engine.variable_types import FMI_TYPE
+from aotv_cosim.model.variable_types import FMI_TYPE
 
 FMI2_LAST_SUCCESSFUL_TIME, FMI2_TERMINATED = 2, 3
 """fmi2StatusKind values asked after a discarded step (fmi2FunctionTypes.h)."""

@@ -44,18 +44,18 @@ from typing import Optional
 
 import numpy as np
 
-from aotv_cosim.engine import interrupts, step_doubling, watchdog
-from aotv_cosim.engine.capabilities import fixed_step_components
-from aotv_cosim.engine.coupling import Coupling
-from aotv_cosim.engine.direct_instance import DirectInstance, built_here
+from aotv_cosim.simulation import interrupts, step_doubling, watchdog
+from aotv_cosim.model.capabilities import fixed_step_components
+from aotv_cosim.simulation.coupling import Coupling
+from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
-from aotv_cosim.engine.interrupts import Interrupted
-from aotv_cosim.engine.fmi_calls import bind, run_bound
-from aotv_cosim.engine.fmi_instance import FmuInstance
-from aotv_cosim.engine.rows import CHUNK, Recorder, Rows
-from aotv_cosim.engine.ranges import RangeWatch
-from aotv_cosim.engine.scenario import crossing
-from aotv_cosim.engine.variable_types import Strings
+from aotv_cosim.simulation.interrupts import Interrupted
+from aotv_cosim.simulation.fmi_calls import bind, run_bound
+from aotv_cosim.simulation.fmi_instance import FmuInstance
+from aotv_cosim.simulation.rows import CHUNK, Recorder, Rows
+from aotv_cosim.model.ranges import RangeWatch
+from aotv_cosim.model.scenario import crossing
+from aotv_cosim.model.variable_types import Strings
 from aotv_cosim.status import Status
 
 @dataclass
@@ -81,7 +81,7 @@ class Outcome:
     """An FMU that asked to end the run: its component, the last communication point every
     component reached and the FMU's fmi2LastSuccessfulTime (s)."""
     step_control: Optional[dict] = None
-    """Error-controlled runs (`engine.step_doubling`): steps accepted, rejected, kept at the min
+    """Error-controlled runs (`simulation.step_doubling`): steps accepted, rejected, kept at the min
     bound, sweeps made, smallest and largest step (s)."""
 
 

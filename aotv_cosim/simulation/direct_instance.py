@@ -31,8 +31,8 @@ import sys
 from pathlib import Path
 from fmpy.model_description import CoSimulation, ModelDescription, ScalarVariable
 
-from aotv_cosim.engine.fmi_instance import STATUS, FmuInstance, _demote_new_paths, extracted
-from aotv_cosim.engine.fmu_file import FmuInfo, Variable
+from aotv_cosim.simulation.fmi_instance import STATUS, FmuInstance, _demote_new_paths, extracted
+from aotv_cosim.model.fmu_file import FmuInfo, Variable
 
 _BUNDLE = re.compile(r"^(?P<stem>\w+)_(?P<hash>[0-9a-f]{16})$")
 """The FMU's module name in resources/slavemodule.txt: <Name>_<hash16> (`fmu.build.isolate`)."""

@@ -17,12 +17,12 @@ import zipfile
 from pathlib import Path, PurePosixPath
 from xml.etree import ElementTree
 
-from aotv_cosim.engine.archives import extract_to
+from aotv_cosim.model.archives import extract_to
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.fmu_file import check_archive
+from aotv_cosim.model.fmu_file import check_archive
 from aotv_cosim.paths import regular_file
-from aotv_cosim.engine import ssp_units as units
-from aotv_cosim.engine.ssp_names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
+from aotv_cosim.model import ssp_units as units
+from aotv_cosim.model.ssp_names import (AOTV_ANNOTATION, OSP_ANNOTATION, SSD_SCHEMA, SSV_SCHEMA, local, q,
                                 schema_problems, xml_problem)
 
 SSD = "SystemStructure.ssd"

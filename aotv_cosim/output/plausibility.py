@@ -1,6 +1,6 @@
 """Plausibility warnings: values given in the wrong unit, and runs whose physics degenerated.
 
-A value outside an FMU's declared `min`/`max` is refused (`engine.ranges`); these are values that
+A value outside an FMU's declared `min`/`max` is refused (`model.ranges`); these are values that
 lie in range but are implausible, so the run goes on and its summary says why it may be wrong:
 
 - a parameter given more than `FACTOR` times above or below the FMI `nominal` its FMU declares

@@ -17,13 +17,13 @@ import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from aotv_cosim.engine.documents import check_document, load_document
+from aotv_cosim.model.documents import check_document, load_document
 from aotv_cosim.errors import AotvError, InputError, raise_if_any
-from aotv_cosim.engine.fmu_file import FmuInfo, FmuResolver, Variable, read_fmu, resolve_fmu
+from aotv_cosim.model.fmu_file import FmuInfo, FmuResolver, Variable, read_fmu, resolve_fmu
 from aotv_cosim.paths import resolved
-from aotv_cosim.engine.ranges import check_range
-from aotv_cosim.engine.variable_types import declared_type_name, enumeration_value, items
-from aotv_cosim.engine.ssp_load import read_ssp
+from aotv_cosim.model.ranges import check_range
+from aotv_cosim.model.variable_types import declared_type_name, enumeration_value, items
+from aotv_cosim.model.ssp_load import read_ssp
 
 
 @dataclass
@@ -157,7 +157,7 @@ def load_system(path, overrides=None, overrides_file=None, *, fmus: FmuResolver)
     """Load and validate a wiring file; `overrides` {'comp.var': value} take precedence.
 
     overrides_file names where the overrides came from, for error messages. An .ssp archive
-    is read into the same document (aotv_cosim.engine.ssp_load) and checked the same way.
+    is read into the same document (aotv_cosim.model.ssp_load) and checked the same way.
     `fmus` gives the .fmu file of each FMU name or source the wiring refers to (`FmuResolver`).
     """
     path = resolved(path, what="wiring file")

@@ -9,7 +9,7 @@ flown as if it were the FMU's unit.
 """
 
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.ssp_names import q
+from aotv_cosim.model.ssp_names import q
 
 BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
 

@@ -9,7 +9,7 @@ component and type, converting between its C values and the buffer's float64 slo
 
 import ctypes
 
-from aotv_cosim.engine.variable_types import C_TYPE, FMI_TYPE
+from aotv_cosim.model.variable_types import C_TYPE, FMI_TYPE
 
 
 class Call:

@@ -28,11 +28,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from aotv_cosim.engine import interrupts
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.errors import SimulationError
-from aotv_cosim.engine.interrupts import Interrupted
-from aotv_cosim.engine.rows import Rows
-from aotv_cosim.engine.scenario import crossing
+from aotv_cosim.simulation.interrupts import Interrupted
+from aotv_cosim.simulation.rows import Rows
+from aotv_cosim.model.scenario import crossing
 
 EVENT_ITERATIONS = 8
 """Most steps taken to locate a crossing."""

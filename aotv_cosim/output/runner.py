@@ -7,15 +7,16 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__
-from aotv_cosim.engine import interrupts, plausibility, plots
+from aotv_cosim.simulation import interrupts
+from aotv_cosim.output import plausibility, plots
 from aotv_cosim.errors import InputError
-from aotv_cosim.engine.master import Master, signals_to_read
-from aotv_cosim.engine.outdir import claimed
-from aotv_cosim.engine.results import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
+from aotv_cosim.simulation.master import Master, signals_to_read
+from aotv_cosim.output.outdir import claimed
+from aotv_cosim.output.run_files import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
                                        write_json_atomically)
-from aotv_cosim.engine.series import SeriesTable, units_of, write_parquet
-from aotv_cosim.engine.summary import RunSummary
-from aotv_cosim.engine.variable_types import Decoder
+from aotv_cosim.output.series import SeriesTable, units_of, write_parquet
+from aotv_cosim.output.summary import RunSummary
+from aotv_cosim.model.variable_types import Decoder
 from aotv_cosim.status import Status
 
 FORMATS = ("csv", "parquet")
@@ -196,7 +197,7 @@ def _attach_fmu_log(outcome, master):
 def _warnings(scenario, outcome):
     """What a completed run did not do that the scenario asked for: a stop condition never met,
     expectations not checked because the time span was overridden, a tolerance whose global
-    error estimate is still above it after the last attempt (`engine.step_doubling`); a run that
+    error estimate is still above it after the last attempt (`simulation.step_doubling`); a run that
     records no signal beyond time; and the wiring's warnings
     (a unit on one side only of a connection)."""
     warnings = list(scenario.system.warnings) + _unrecorded(recorded_columns(scenario))

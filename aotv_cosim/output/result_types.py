@@ -7,7 +7,7 @@ modelDescriptions declare it (SI; "1" for dimensionless), in `.units` and in eac
 
 import pandas as pd
 
-from aotv_cosim.engine.summary import RunSummary
+from aotv_cosim.output.summary import RunSummary
 from aotv_cosim.status import Status
 
 

@@ -12,7 +12,7 @@ from typing import Callable, Union
 
 from fmpy import read_model_description
 
-from aotv_cosim.engine.archives import check_fmu_members, check_sizes
+from aotv_cosim.model.archives import check_fmu_members, check_sizes
 from aotv_cosim.errors import InputError
 from aotv_cosim.paths import regular_file, resolved
 

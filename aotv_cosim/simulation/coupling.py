@@ -19,9 +19,9 @@ import ctypes
 
 import numpy as np
 
-from aotv_cosim.engine import ordering, watchdog
-from aotv_cosim.engine.fmi_calls import Call, Plan, bind, calls_by_type, run_bound
-from aotv_cosim.engine.ranges import range_watches
+from aotv_cosim.simulation import ordering, watchdog
+from aotv_cosim.simulation.fmi_calls import Call, Plan, bind, calls_by_type, run_bound
+from aotv_cosim.model.ranges import range_watches
 
 
 class Saved:

@@ -7,7 +7,7 @@ order from the run's seed (`campaigns.draws`), so scenarios flying different law
 draw the same values for the same campaign seed and run index.
 """
 
-from aotv_cosim.engine.documents import load_document
+from aotv_cosim.model.documents import load_document
 from aotv_cosim.paths import regular_file, resolved
 
 

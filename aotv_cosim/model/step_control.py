@@ -5,8 +5,8 @@
 `size` is the first step (s); `tolerance` gives, per output, the absolute error (in the output's
 SI unit) the run may make over its whole span; `min`/`max` bound the step (s); `check` "global"
 (default) has the run's global error estimated and the tolerance met on it, "local" only the
-local errors (`engine.step_doubling`). The master then
-estimates each step's local coupling error by step doubling (`engine.step_doubling`) and keeps the sum
+local errors (`simulation.step_doubling`). The master then
+estimates each step's local coupling error by step doubling (`simulation.step_doubling`) and keeps the sum
 of the local errors within the tolerance: a step of length h may make h / (stop - start) of it
 (error per unit step). Inputs are extrapolated (`inputs`, local error O(h^3)); held inputs
 are refused with a tolerance: their error, first order, is carried on by the states after each
@@ -28,7 +28,7 @@ bounds of an embedded Runge-Kutta controller, Hairer-Norsett-Wanner I, Sec. II.4
 class StepControl:
     """tolerance: {signal: absolute error over the run, SI}; smallest and largest step, s;
     check: "global" (the run's global error is estimated and the tolerance met on it,
-    `engine.step_doubling`) or "local" (the local errors alone are kept within it)."""
+    `simulation.step_doubling`) or "local" (the local errors alone are kept within it)."""
 
     tolerance: dict
     min: float

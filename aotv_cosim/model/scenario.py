@@ -4,17 +4,17 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from aotv_cosim.engine.dispersion_sets import dispersion_entries
-from aotv_cosim.engine.documents import load_document
+from aotv_cosim.model.dispersion_sets import dispersion_entries
+from aotv_cosim.model.documents import load_document
 from aotv_cosim.errors import InputError, raise_if_any
-from aotv_cosim.engine.step_control import StepControl, step_control
+from aotv_cosim.model.step_control import StepControl, step_control
 from aotv_cosim.paths import regular_file, resolved
-from aotv_cosim.engine.fmu_file import FmuResolver
-from aotv_cosim.engine.system import System, load_system
-from aotv_cosim.engine.ranges import check_dispersion
-from aotv_cosim.engine.capabilities import check_capabilities, default_experiment
-from aotv_cosim.engine.variable_types import DISCRETE, enumeration_value
-from aotv_cosim.engine.run_size import check_run_size
+from aotv_cosim.model.fmu_file import FmuResolver
+from aotv_cosim.model.system import System, load_system
+from aotv_cosim.model.ranges import check_dispersion
+from aotv_cosim.model.capabilities import check_capabilities, default_experiment
+from aotv_cosim.model.variable_types import DISCRETE, enumeration_value
+from aotv_cosim.model.run_size import check_run_size
 
 
 MAX_STEPS = 1e9
@@ -108,7 +108,7 @@ class Scenario:
     inputs: str = "held"
     """How delayed inputs are held over a step: 'held' (zero-order hold) or 'extrapolated'."""
     step_control: "StepControl | None" = None
-    """Error-controlled steps (`engine.step_control`); None: the fixed step `step`."""
+    """Error-controlled steps (`model.step_control`); None: the fixed step `step`."""
     dispersions: list = field(default_factory=list)
     scatter: list = field(default_factory=list)
     outcome: "dict | None" = None
@@ -120,13 +120,13 @@ class Scenario:
     skipped: list = field(default_factory=list)
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
     step_timeout: "float | None" = None
-    """Wall-clock limit of one communication step, s (`engine.watchdog`); None: no limit."""
+    """Wall-clock limit of one communication step, s (`simulation.watchdog`); None: no limit."""
 
 
 def parse_sets(pairs, origin="--set", file=None) -> dict:
     """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be);
     file: the scenario the values are for, named in the error."""
-    from aotv_cosim.engine.documents import json_value
+    from aotv_cosim.model.documents import json_value
 
     values = {}
     for text in pairs or ():
@@ -138,10 +138,10 @@ def parse_sets(pairs, origin="--set", file=None) -> dict:
     return values
 
 
-def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: FmuResolver = None) -> Scenario:
+def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: FmuResolver) -> Scenario:
     """Load a scenario; `sets` ({'comp.var': value}, from --set), `step`, `start` and `stop`
     (s, from --step, --start, --stop) override the file. `fmus` gives the wiring's FMU files
-    (`fmu_file.FmuResolver`; None: `fmu.build.built_fmu`, which builds those missing or stale).
+    (`fmu_file.FmuResolver`; `simulation.loading` gives the one that builds them when missing).
 
     With start or stop overridden the run is another experiment: the expectations measured at
     the end, a minimum, a maximum or a time are not checked (they are listed in `skipped`);
@@ -150,7 +150,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: Fm
     """
     path = resolved(path, what="scenario file")
     if path.suffix == ".ssp":
-        from aotv_cosim.engine.ssp_load import scenario_document
+        from aotv_cosim.model.ssp_load import scenario_document
 
         doc = scenario_document(path, step_given=step is not None)
     else:
@@ -162,8 +162,6 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: Fm
         raise InputError(f"wiring file {exc.cause.removeprefix('file ')}", file=path, entry="system",
                          fix="give the wiring file's path relative to the scenario") from None
     overrides = dict(doc.get("parameters", {}))
-    if fmus is None:
-        from aotv_cosim.fmu.build import built_fmu as fmus
     system = load_system(system_path, overrides, overrides_file=path, fmus=fmus) if not sets else \
         load_system(system_path, {**overrides, **sets}, overrides_file=f"{path} (with --set)", fmus=fmus)
     expectations = [Expectation(e["signal"], e["at"], _expected(e["value"]), e["source"],
