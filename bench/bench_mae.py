@@ -3,7 +3,7 @@
     python bench/bench_mae.py [--repeats 7]
 
 Flies the guided plane change once (reduced model, RK4 0.1 s, re-solves every 5 s, as in
-tests/test_seed001_mae.py) to record the measured state and the previous solution of each
+tests/studies/test_seed001_mae.py) to record the measured state and the previous solution of each
 re-solve, then repeats every warm-started re-solve `repeats` times. Prints the median over all
 re-solves of the per-re-solve median, split into entry and exit phase, and the cold-start solve
 from the entry state (App. B.1 guess) as the same-process baseline.

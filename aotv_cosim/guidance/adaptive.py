@@ -53,7 +53,7 @@ def adaptive_step(theta, state_si, desired_si, u_desired: float, k_ball: float =
     `adaptive_delta_u` and `theta_rate` with A, B and e of `planar.jacobian_a`, `input_b` and
     `km_error`, evaluated in floats with the same operations in the same order (twice per step,
     where numpy's cost per call on 3-element arrays was most of the law's): the same numbers to
-    the bit (`tests/test_campaign_laws_floats.py`). A e stays a numpy product: its BLAS kernel
+    the bit (`tests/campaigns/test_campaign_laws_floats.py`). A e stays a numpy product: its BLAS kernel
     may fuse multiply-adds, which Python floats cannot reproduce. Sums start from 0.0 as BLAS's
     do (the sign of a zero result).
     """

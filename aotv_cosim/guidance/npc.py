@@ -175,7 +175,7 @@ def fly(t_k: float, state, u_c: float, scale: float, model: PredictorModel, s: N
     interpolated linearly inside the step: exited), falls below h_floor, or the horizon ends.
 
     The same operations in the same order as those functions, written out in floats (the
-    predictor is 90 % of an NPC run), so the same numbers to the bit (`tests/test_npc_kernel.py`
+    predictor is 90 % of an NPC run), so the same numbers to the bit (`tests/studies/test_npc_kernel.py`
     compares with RK4 on `point_mass.derivatives`). Where a C compiler is found, `npc_kernel` runs
     this loop compiled, about 20 times faster (a prediction 45 us against 0.9 ms in floats and
     3 ms for the six-state RK4 of `point_mass.derivatives` it replaces, measured on one machine).

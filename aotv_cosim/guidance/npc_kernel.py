@@ -6,7 +6,7 @@ is written with the association Python evaluates (left to right, `a + 2.0 * b + 
 as ((a + 2b) + 2c) + d), the exponential, sine and cosine are the C library's, which Python's
 `math` calls too, and the compiler is told not to contract a * b + c into a fused multiply-add
 nor to replace the library calls by builtins (`FLAGS`), so both give the same numbers to the bit
-(`tests/test_npc_kernel.py` compares them). No fast-math option is used.
+(`tests/studies/test_npc_kernel.py` compares them). No fast-math option is used.
 
 The shared library is looked for beside this module (an FMU that bundles it, see `LIBRARY`),
 then in the `kernels` folder of the FMU cache (`kernel_dir`), where it is compiled on first use

@@ -91,7 +91,7 @@ built by this package called in this interpreter (`direct_instance.DirectInstanc
 other FMU through its C library."""
 FMI_CALLS_DEFAULT = "direct"
 """The FMUs built here called directly: the same results to the bit on every shipped scenario
-(tests/test_direct_calls.py), the whole step about 0.75-0.8x of the lean C path's and 0.55-0.6x
+(tests/simulation/test_direct_calls.py), the whole step about 0.75-0.8x of the lean C path's and 0.55-0.6x
 of the stock one's (bench/bench_fmi_calls.py)."""
 
 
