@@ -13,13 +13,12 @@ import argparse
 from types import SimpleNamespace
 import statistics
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 
-from aotv_cosim.simulation.master import Master  # noqa: E402
+from timing import CpuTimedMaster  # noqa: E402
 from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 from bench_libcosim import with_wrapper  # noqa: E402
 
@@ -27,20 +26,9 @@ NOMINAL = ROOT / "scenarios" / "aotv_time_linear_nominal.json"
 WAYS = ("stock", "lean", "direct")
 
 
-class _CpuTimedMaster(Master):
-    """The master with the CPU time of its stepping loop measured (`loop_cpu_ns`)."""
-
-    def _loop(self, rows, outcome):
-        t0 = time.thread_time_ns()
-        try:
-            super()._loop(rows, outcome)
-        finally:
-            self.loop_cpu_ns = time.thread_time_ns() - t0
-
-
 def one_run(scenario, calls):
     """(CPU us per step, wall us per step) of the stepping loop of one run."""
-    master = _CpuTimedMaster(scenario, fmi_calls=calls)
+    master = CpuTimedMaster(scenario, fmi_calls=calls)
     outcome = master.run(SimpleNamespace(record=lambda times, rows: None))
     assert outcome.status == "completed", outcome.error
     return master.loop_cpu_ns / outcome.steps / 1e3, outcome.loop_time / outcome.steps * 1e6

@@ -21,29 +21,17 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from aotv_cosim.simulation.master import Master  # noqa: E402
+from timing import CpuTimedMaster  # noqa: E402
 from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
 from aotv_cosim.fmu.build import ensure_fmu  # noqa: E402
 
 BUILD = "import sys; from aotv_cosim.fmu.build import ensure_fmu; print(*(ensure_fmu(n) for n in sys.argv[1:]))"
 """Run in the other tree: build (or find in its cache) the named FMUs and print their paths."""
-
-
-class _CpuTimedMaster(Master):
-    """The master with the CPU time of its stepping loop measured (`loop_cpu_ns`)."""
-
-    def _loop(self, rows, outcome):
-        t0 = time.thread_time_ns()
-        try:
-            super()._loop(rows, outcome)
-        finally:
-            self.loop_cpu_ns = time.thread_time_ns() - t0
 
 
 def base_fmus(names, tree: Path, cache) -> dict:
@@ -75,7 +63,7 @@ def with_fmus(scenario_path: Path, fmus: dict, folder: Path, tag: str):
 
 
 def us_per_step(scenario) -> float:
-    master = _CpuTimedMaster(scenario)
+    master = CpuTimedMaster(scenario)
     outcome = master.run(SimpleNamespace(record=lambda times, rows: None))
     assert outcome.status == "completed", outcome.error
     return master.loop_cpu_ns / outcome.steps / 1e3

@@ -26,7 +26,7 @@ import time
 from pathlib import Path
 from types import SimpleNamespace
 
-from aotv_cosim.simulation.master import Master
+from timing import CpuTimedMaster
 from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.fmu import native
 from aotv_cosim.ssp.export import export_ssp
@@ -56,22 +56,11 @@ def prepared(wrapper, folder):
     return scenario, ssp
 
 
-class _CpuTimedMaster(Master):
-    """The master with the CPU time of its stepping loop measured (`loop_cpu_ns`)."""
-
-    def _loop(self, rows, outcome):
-        t0 = time.thread_time_ns()
-        try:
-            super()._loop(rows, outcome)
-        finally:
-            self.loop_cpu_ns = time.thread_time_ns() - t0
-
-
 def master_step(scenario):
     """({"cpu": us, "wall": us} per step, final values of the state outputs) of one master run."""
     last = []
     # through the FMUs' C wrappers: the lean and stock FMUs differ only there
-    master = _CpuTimedMaster(scenario, fmi_calls="c")
+    master = CpuTimedMaster(scenario, fmi_calls="c")
     outcome = master.run(SimpleNamespace(record=lambda times, rows: last.append(rows[-1])))
     assert outcome.status == "completed", outcome.error
     states = state_outputs(scenario)

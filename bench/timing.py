@@ -3,6 +3,8 @@
 import statistics
 import time
 
+from aotv_cosim.simulation.master import Master
+
 
 def median_seconds(call, repeats, clock=time.perf_counter):
     """Median duration (s) of `repeats` calls of call(), measured by `clock` (wall time by
@@ -31,3 +33,14 @@ def machine() -> str:
         pass
     return (f"{model}, {os.cpu_count()} cores, Python {platform.python_version()}, "
             f"load average {os.getloadavg()[0]:.2f} at the start")
+
+
+class CpuTimedMaster(Master):
+    """The master with the CPU time of its stepping loop measured (`loop_cpu_ns`)."""
+
+    def _loop(self, rows, outcome):
+        t0 = time.thread_time_ns()
+        try:
+            super()._loop(rows, outcome)
+        finally:
+            self.loop_cpu_ns = time.thread_time_ns() - t0
