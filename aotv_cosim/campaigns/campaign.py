@@ -136,8 +136,8 @@ def _campaign(ref, scenario, runs, out, options):
     wall = time.perf_counter() - t0
     rows = store.close()
     statuses = {}
-    for r in rows:
-        statuses[r["status"]] = statuses.get(r["status"], 0) + 1
+    for r in rows:  # keyed by the text, as campaign.json and the console show it
+        statuses[str(r["status"])] = statuses.get(str(r["status"]), 0) + 1
     summary = {
         "status": status.value,
         "stop_reason": f"interrupted by {interrupts.name()}" if status == Status.INTERRUPTED else None,

@@ -38,6 +38,7 @@ def local_20(tmp_path_factory):
 def test_local_campaign_rows_and_report(local_20):
     summary, out = local_20
     assert summary["statuses"] == {"completed": 20}
+    assert repr(summary["statuses"]) == "{'completed': 20}"  # as the console prints it
     with open(out / "rows.csv") as f:
         rows = list(csv.DictReader(f))
     assert [int(r["run"]) for r in rows] == list(range(20))
