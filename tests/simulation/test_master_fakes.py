@@ -7,6 +7,7 @@ says which value of ramp.y the master passed: the one at the new communication p
 the ramp steps first) or the one at the old point (Jacobi)."""
 
 import json
+import struct
 from types import SimpleNamespace
 
 import pytest
@@ -71,14 +72,9 @@ def run(scenario):
     times, rows = [], []
     master = Master(scenario, fmi_calls="direct")
     outcome = master.run(SimpleNamespace(record=lambda t, r: (times.extend(t), rows.extend(r))))
-    columns = {sig: [Master_value(row, master.index[sig]) for row in rows] for sig in master.index}
+    columns = {sig: [struct.unpack_from("d", row, 8 * master.index[sig])[0] for row in rows]
+               for sig in master.index}  # a recorded row is the bytes of the master's float64 buffer
     return outcome, columns, times
-
-
-def Master_value(row: bytes, index: int) -> float:
-    import struct
-
-    return struct.unpack_from("d", row, 8 * index)[0]
 
 
 def test_gauss_seidel_passes_the_value_at_the_new_communication_point(tmp_path):
