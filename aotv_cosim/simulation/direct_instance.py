@@ -138,6 +138,7 @@ class DirectInstance(FmuInstance):
         """("Get"/"Set", FMI type) -> a function with the C entry point's arguments (`fmi_calls`)."""
         self.raw_get_real, self.raw_set_real = self.raw[("Get", "Real")], self.raw[("Set", "Real")]
         self._setup(start_time, stop_time)
+        self._fresh = self._snapshot(start_time, stop_time)
 
     @classmethod
     def from_class(cls, name: str, slave_cls: type, start_time: float = 0.0, stop_time: float = 1.0):
@@ -308,11 +309,43 @@ class DirectInstance(FmuInstance):
 
     # ---- lifecycle ----------------------------------------------------------------------------
     def reset(self, start_time: float, stop_time: float):
-        """fmi2Reset (a new slave object, as the wrapper makes), then set up the experiment again."""
+        """fmi2Reset, then set up the experiment again: the slave as just instantiated and set up.
+
+        A slave of this package for the same times is put back to the snapshot `_snapshot` took
+        right after its first set-up (`_restart`): a few microseconds, where making a new slave
+        object and setting it up again (what the C wrapper's fmi2Reset does, and what is done
+        here for any other slave) costs 0.1-0.6 ms per FMU, about a twentieth of a campaign's
+        shortest runs."""
         self.time = start_time
         self.messages.clear()
+        fresh = self._fresh
+        if fresh is not None and fresh[0] == (start_time, stop_time):
+            self._checked("fmi2Reset", self._plain("[reset]", self._restart, fresh))
+            return
         self._checked("fmi2Reset", self._plain("[reset]", self._create))
         self._setup(start_time, stop_time)
+        self._fresh = self._snapshot(start_time, stop_time)
+
+    def _snapshot(self, start_time: float, stop_time: float):
+        """((start, stop), state, kept) of a slave of this package just set up: its FMU state
+        (`AotvSlave._get_fmu_state`, every attribute it computes with) and the names of the other
+        attributes it holds (declarations, pythonfmu's own); None for any other slave, whose
+        saved state may not hold everything (pythonfmu's default saves only the variables)."""
+        if not any(base.__name__ == "AotvSlave" for base in type(self.slave).__mro__):
+            return None
+        state = self.slave._get_fmu_state()
+        return (start_time, stop_time), state, frozenset(self.slave.__dict__) - frozenset(state)
+
+    def _restart(self, fresh):
+        """The slave back to its state right after set-up: attributes made since are removed,
+        the snapshot's restored (copied, so it serves again), the log queue emptied."""
+        _, state, kept = fresh
+        attributes = self.slave.__dict__
+        for name in [n for n in attributes if n not in state and n not in kept]:
+            del attributes[name]
+        self.slave._set_fmu_state(state)
+        if type(self.log_queue) is list:
+            self.log_queue.clear()
 
     def set_values(self, values: dict) -> None:
         """Set parameter, start or input values by name, converted as FMPy's setters and the
