@@ -330,7 +330,7 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
                max_rss):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
-    from aotv_cosim.campaigns.report_tables import console_table
+    from aotv_cosim.campaigns.report import console_table
     from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.model.scenario import parse_sets
 

@@ -9,10 +9,10 @@
   worker is replaced; on Dask a batch whose worker dies is retried run by run.
 - `store`: rows appended to rows.csv as they finish; resume skips finished runs; the final
   rows.csv and rows.parquet are sorted by run, identical to an uninterrupted campaign's.
-- `report`: percentiles (summary.json `statistics`) and the 3-sigma ellipse.
+- `statistics`: percentiles (summary.json `statistics`) and the 3-sigma ellipse.
 - `units`: the unit of every column (summary.json `units`, rows.parquet field metadata).
-- `report_tables`, `figures`, `campaign_report`: the runs classified (`aotv_cosim.mission`), the
-  3-sigma table and outcome counts (console, summary.json, report.md) and the labelled plots.
+- `report`, `figures`: the runs classified (`aotv_cosim.mission`), the 3-sigma table and outcome
+  counts (console, summary.json, report.md) and the labelled plots.
 - `benchmark`, `benchmark_report`: every law of a scenario set through the same draws, scorecard.
 """
 

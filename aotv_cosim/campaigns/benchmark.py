@@ -22,7 +22,7 @@ import numpy as np
 
 from aotv_cosim.campaigns import limits as limits_of_runs
 from aotv_cosim.campaigns.campaign import CampaignOptions, fly
-from aotv_cosim.campaigns.report import completed_values
+from aotv_cosim.campaigns.statistics import completed_values
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.mission.outcome import OUTCOMES
 from aotv_cosim.campaigns.store import write_parquet

@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from aotv_cosim.campaigns.figures import axes_style
-from aotv_cosim.campaigns.report import completed_values
+from aotv_cosim.campaigns.statistics import completed_values
 
 PANELS = (("outcome.apogee_error", "apogee error", "m"), ("outcome.dv_total", "correction dv", "m/s"),
           ("outcome.peak_heat_rate", "peak heat rate", "W/m2"), ("outcome.heat_load", "heat load", "J/m2"),

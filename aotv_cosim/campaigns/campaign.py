@@ -10,7 +10,7 @@ from aotv_cosim.simulation import interrupts, watchdog
 from aotv_cosim.output import plausibility
 from aotv_cosim.errors import InputError
 from aotv_cosim.simulation.master import Interrupted
-from aotv_cosim.campaigns import backends, campaign_report, report
+from aotv_cosim.campaigns import backends, report, statistics
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
@@ -96,7 +96,7 @@ def fly(ref: ScenarioRef, scenario: Scenario, runs: int, out_dir, options: Campa
 def _campaign(ref, scenario, runs, out, options):
     step_limit = options.step_timeout or scenario.step_timeout or watchdog.CAMPAIGN_STEP_TIMEOUT
     names = columns(scenario)
-    campaign_report.chosen(scenario, names)  # refuse an unknown report column before any run
+    report.chosen(scenario, names)  # refuse an unknown report column before any run
     manifest = {"scenario": ref.path, "runs": runs, "seed": options.seed, "sets": ref.overrides,
                 "dispersions": [d.__dict__ for d in scenario.dispersions],
                 **({"start": ref.start, "stop": ref.stop} if ref.times_overridden else {})}
@@ -151,11 +151,11 @@ def _campaign(ref, scenario, runs, out, options):
                    "max_rss_mib": options.max_rss / 2**20 if options.max_rss else None},
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
                    for r in rows if r["status"] != Status.COMPLETED][:50],
-        "statistics": report.statistics(rows, names),
+        "statistics": statistics.statistics(rows, names),
         "units": units,
     }
     plots = options.make_plots and status == Status.COMPLETED
-    summary.update(campaign_report.write(out, rows, scenario, units, names, plots))
+    summary.update(report.write(out, rows, scenario, units, names, plots))
     if options.keep_series:
         from aotv_cosim.campaigns.series import write_series
 

@@ -7,7 +7,7 @@ files keep SI; ticks are limited in number and never offset."""
 
 import numpy as np
 
-from aotv_cosim.campaigns.report import completed_values, ellipse_3sigma
+from aotv_cosim.campaigns.statistics import completed_values, ellipse_3sigma
 from aotv_cosim.campaigns.units import display
 from aotv_cosim.status import Status
 

@@ -114,7 +114,7 @@ class Scenario:
     outcome: "dict | None" = None
     """Campaign outcome settings (`campaigns.outcome_rows`): runs are classified when given."""
     report_columns: list = field(default_factory=list)
-    """Campaign columns of the report's table and histograms (`campaigns.campaign_report`)."""
+    """Campaign columns of the report's table and histograms (`campaigns.report`)."""
     versus: list = field(default_factory=list)
     """Campaign (input, output) column pairs plotted against each other."""
     skipped: list = field(default_factory=list)

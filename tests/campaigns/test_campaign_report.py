@@ -8,7 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 from aotv_cosim.campaigns import run_campaign
-from aotv_cosim.campaigns.report_tables import console_table, three_sigma
+from aotv_cosim.campaigns.report import console_table, three_sigma
 from aotv_cosim.cli import main
 from aotv_cosim.errors import InputError
 from tests.helpers import SCENARIOS, write_json

@@ -15,7 +15,7 @@ from aotv_cosim.errors import InputError
 from aotv_cosim.campaigns import run_campaign
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
-from aotv_cosim.campaigns.report import ellipse_3sigma
+from aotv_cosim.campaigns.statistics import ellipse_3sigma
 from aotv_cosim.model.scenario import Dispersion
 from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import SCENARIOS, write_json

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from aotv_cosim.campaigns.report import sample_statistics
+from aotv_cosim.campaigns.statistics import sample_statistics
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import Runner
 from aotv_cosim.simulation.master import Master
