@@ -143,7 +143,7 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
 
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
     SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
-    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.simulation.loading import load_scenario
 
     def body():
@@ -332,7 +332,7 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report import console_table
     from aotv_cosim.campaigns import run_campaign
-    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.model.documents import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
@@ -418,7 +418,7 @@ def sweep(scenario, grids, workers, sets, out):
     outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
     from aotv_cosim.campaigns.units import display
     from aotv_cosim.campaigns.sweep import run_sweep
-    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.model.documents import parse_sets
 
     def body():
         out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-sweep"
@@ -484,7 +484,7 @@ def corridor(scenario, lift_to_drag, tolerance, bracket, out):
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
 def export_ssp(scenario, out, sets, step):
     """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
-    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.simulation.loading import load_scenario
     from aotv_cosim.ssp.export import default_experiment, export_ssp as write_ssp
 

@@ -11,4 +11,17 @@ def run_seed(campaign_seed: int, run: int) -> np.random.SeedSequence:
 def draw(dispersions, campaign_seed: int, run: int) -> dict:
     """{'comp.var': value} for one run: each dispersion sampled in declaration order."""
     rng = np.random.default_rng(run_seed(campaign_seed, run))
-    return {d.signal: d.sample(rng) for d in dispersions}
+    return {d.signal: sample(d, rng) for d in dispersions}
+
+
+def sample(dispersion, rng) -> float:
+    """One draw of `dispersion` (`model.scenario.Dispersion`) from the numpy Generator `rng`."""
+    d = dispersion
+    if d.kind == "uniform":
+        return float(rng.uniform(d.low, d.high))
+    if d.kind == "normal":
+        return float(rng.normal(d.mean, d.std))
+    from scipy.stats import truncnorm
+
+    a, b = (d.low - d.mean) / d.std, (d.high - d.mean) / d.std
+    return float(truncnorm.rvs(a, b, loc=d.mean, scale=d.std, random_state=rng))

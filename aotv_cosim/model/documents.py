@@ -139,3 +139,16 @@ def json_value(text: str):
         return strict_json(text)
     except ValueError:
         return text
+
+
+def parse_sets(pairs, origin="--set", file=None) -> dict:
+    """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be);
+    file: the scenario the values are for, named in the error."""
+    values = {}
+    for text in pairs or ():
+        if "=" not in text or "." not in text.split("=", 1)[0]:
+            raise InputError(f"cannot read {text!r}: no component.variable before an '='", file=file,
+                             entry=origin, fix="write component.variable=value")
+        key, raw = text.split("=", 1)
+        values[key.strip()] = json_value(raw.strip())
+    return values

@@ -69,7 +69,8 @@ class Expectation:
 class Dispersion:
     """A Monte Carlo distribution of one Real parameter `signal` ('component.variable').
 
-    kind: 'uniform' (low, high), 'normal' (mean, std) or 'truncated_normal' (mean, std, low, high).
+    kind: 'uniform' (low, high), 'normal' (mean, std) or 'truncated_normal' (mean, std, low, high);
+    `campaigns.draws` samples it.
     """
 
     signal: str
@@ -78,17 +79,6 @@ class Dispersion:
     std: float = None
     low: float = None
     high: float = None
-
-    def sample(self, rng) -> float:
-        """One draw from the numpy Generator `rng`."""
-        if self.kind == "uniform":
-            return float(rng.uniform(self.low, self.high))
-        if self.kind == "normal":
-            return float(rng.normal(self.mean, self.std))
-        from scipy.stats import truncnorm
-
-        a, b = (self.low - self.mean) / self.std, (self.high - self.mean) / self.std
-        return float(truncnorm.rvs(a, b, loc=self.mean, scale=self.std, random_state=rng))
 
 
 @dataclass
@@ -121,21 +111,6 @@ class Scenario:
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
     step_timeout: "float | None" = None
     """Wall-clock limit of one communication step, s (`simulation.watchdog`); None: no limit."""
-
-
-def parse_sets(pairs, origin="--set", file=None) -> dict:
-    """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be);
-    file: the scenario the values are for, named in the error."""
-    from aotv_cosim.model.documents import json_value
-
-    values = {}
-    for text in pairs or ():
-        if "=" not in text or "." not in text.split("=", 1)[0]:
-            raise InputError(f"cannot read {text!r}: no component.variable before an '='", file=file,
-                             entry=origin, fix="write component.variable=value")
-        key, raw = text.split("=", 1)
-        values[key.strip()] = json_value(raw.strip())
-    return values
 
 
 def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: FmuResolver) -> Scenario:

@@ -68,7 +68,7 @@ def test_a_bad_typed_value_given_by_set_is_one_line(given, entry, message, fix, 
     """A value given on the command line (a byte that is not UTF-8 arrives as a lone surrogate)."""
     args = ["run", typed_scenario, "--set", given, "--out", tmp_path / "o", "--no-plots"]
     if not message:  # a valid value: refused neither by the loader nor for its length
-        from aotv_cosim.model.scenario import parse_sets
+        from aotv_cosim.model.documents import parse_sets
         from aotv_cosim.simulation.loading import load_scenario
 
         assert load_scenario(typed_scenario, parse_sets([given])).system.components["t"].parameters["text"] == "x" * 100000
@@ -79,7 +79,7 @@ def test_a_bad_typed_value_given_by_set_is_one_line(given, entry, message, fix, 
 
 def test_enumeration_items_and_booleans_are_accepted_as_documented(typed_scenario):
     """An Enumeration by item name (exact case) or integer; a Boolean only as JSON true/false."""
-    from aotv_cosim.model.scenario import parse_sets
+    from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.simulation.loading import load_scenario
 
     parameters = load_scenario(typed_scenario, parse_sets(["t.mode=Ramp", "t.flag=true"])).system.components["t"].parameters
