@@ -50,7 +50,6 @@ from aotv_cosim.simulation.coupling import Coupling
 from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.simulation.interrupts import Interrupted
-from aotv_cosim.simulation.fmi_calls import bind, run_bound
 from aotv_cosim.simulation.fmi_instance import FmuInstance
 from aotv_cosim.simulation.rows import CHUNK, Recorder, Rows
 from aotv_cosim.model.ranges import RangeWatch
@@ -182,10 +181,13 @@ class Master:
             inst.exit_initialization()
 
     def _build_plans(self):
-        """The run's `Coupling`: its buffer and calls, with the buffer's names kept here for `Rows`
-        and the caller (values, array, index, types, start)."""
-        c = self.coupling = Coupling(self.scenario, self.instances, self.signals, self.strings)
-        self.values, self.array, self.index, self.types, self.start = c.values, c.array, c.index, c.types, c.start
+        """The run's `Coupling`: its buffer and the calls prepared over it."""
+        self.coupling = Coupling(self.scenario, self.instances, self.signals, self.strings)
+
+    @property
+    def index(self) -> dict:
+        """{'comp.var': position} of every recorded signal in a row (the coupling's buffer)."""
+        return self.coupling.index
 
     # ---- stepping ----------------------------------------------------------------------------
     def _read_all(self, t):
@@ -205,7 +207,7 @@ class Master:
             self._initialize()
             self._build_plans()
             self._read_all(s.start)
-            run_bound(bind(self.start), self.values, s.start)
+            self.coupling.set_start_inputs(s.start)
             outcome.init_time = clock.perf_counter() - wall0
             rows.add(s.start)
             with watchdog.armed(s.step_timeout):

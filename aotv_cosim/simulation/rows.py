@@ -35,7 +35,7 @@ class Rows:
 
     def add(self, t):
         """Record the communication point t now (the loop itself records every n-th step)."""
-        self.keep(t, bytes(self.master.values))
+        self.keep(t, bytes(self.master.coupling.values))
 
     def keep(self, t, row):
         """Record the communication point t with `row`, the bytes of the buffer there."""
@@ -51,7 +51,7 @@ class Rows:
         del self.times[n:], self.rows[n:]
         if not n:
             return
-        width = len(self.master.array)
+        width = len(self.master.coupling.array)
         rows = np.frombuffer(b"".join(self.rows), dtype=np.float64).reshape(n, -1)[:, :width]
         times = np.array(self.times)
         self.times.clear()
@@ -76,10 +76,10 @@ class Rows:
         """The stop condition's crossing, linearly interpolated between two communication points
         (`fraction` None for a discrete signal: the values at t1), each value of its type."""
         if fraction is None:
-            fraction, values = 1.0, self.master.array
+            fraction, values = 1.0, self.master.coupling.array
         else:
-            values = previous + fraction * (self.master.array - previous)
-        kinds, strings = self.master.types, self.master.strings
+            values = previous + fraction * (self.master.coupling.array - previous)
+        kinds, strings = self.master.coupling.types, self.master.strings
         return {"signal": cond.signal, "threshold": cond.threshold, "time": t0 + fraction * (t1 - t0),
                 "values": {sig: float(values[i]) if kinds[sig] == "Real" else typed(kinds[sig], values[i], strings)
                            for sig, i in self.master.index.items()}}

@@ -184,9 +184,12 @@ def test_a_time_without_its_row_is_dropped_at_the_flush():
 
     from aotv_cosim.simulation.rows import Rows
 
-    class Master:
+    class Coupling:
         values = (ctypes.c_double * 2)(1.0, 2.0)
         array = np.frombuffer(values)
+
+    class Master:
+        coupling = Coupling()
         received = []
 
         def record(self, times, rows):
