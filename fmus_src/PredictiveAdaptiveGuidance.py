@@ -10,7 +10,8 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
 
     K is estimated from the deceleration measured at entry (eq. 8.1) and (a, b, tf') are re-solved
     for it by direct shooting (`solve_predictive_adaptive`), instead of the thesis's fits
-    (8.2)-(8.4) of Table 8.1. The measurement is the vehicle's drag specific force at entry (input
+    (8.2)-(8.4) of Table 8.1; with tf_nom > 0 the solve is continued from a known solution (its
+    entry, K_nom and (a, b, tf')) to the measured entry and estimated K. The measurement is the vehicle's drag specific force at entry (input
     `drag`, connected from `vehicle.drag_acc`): the vehicle declares its parasite drag dependent
     on rho only, and the master orders variables, so the value latched at initialization is the
     drag at the entry density, with no loop through this law's own command.
@@ -24,6 +25,7 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
         entry_drag = aero.parasite_drag_acceleration(4.959e-6, 8200.0, constants.CD0_000, constants.M_OVER_S_000)
         self.input("drag", entry_drag, "m/s2", "Measured drag specific force D/m (latched at initialization)")
         guidance_slave.declare_exit_targets(self)
+        guidance_slave.declare_known_solution(self, with_k=True)
         out = self.solution_output
         out("u", "m/s2", "Lift acceleration command", self.current_command)
         out("drag_acc", "m/s2", "Drag specific force D/m measured at entry", lambda: self.solution()[2])
@@ -39,7 +41,8 @@ class PredictiveAdaptiveGuidance(guidance_slave.EntryLatchedGuidance):
     def solve(self):
         """(K estimate 1/m, PredictiveSolution, measured D/m m/s^2) for the entry state."""
         return (*solve_predictive_adaptive((self.h, self.v, self.gamma), self.drag,
-                                           (self.hf, self.vf, self.gammaf)), self.drag)
+                                           (self.hf, self.vf, self.gammaf),
+                                           known=guidance_slave.known_solution(self, 0.0)), self.drag)
 
     def final_time(self, solution):
         return solution[1].tf

@@ -20,6 +20,7 @@ from functools import lru_cache
 
 from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
+from aotv_cosim.guidance.predictive import KnownSolution
 from aotv_cosim.physics import mrrv, shuttle_pitch, shuttle_trajectory
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 from aotv_cosim.physics.planar import ENTRY_000, EXIT_000, K_BALL_000, TF_000
@@ -41,6 +42,32 @@ def declare_exit_targets_and_k(slave):
     (2.8), rho_s C_D0 / (2 m/S) = 2.92e-4 1/m."""
     declare_exit_targets(slave)
     slave.parameter("K_ball", K_BALL_000, "1/m", "Ballistic parameter K of eq. (2.8) used by the solve")
+
+
+def declare_known_solution(slave, with_k: bool = False):
+    """Parameters of a known predictive solution to start from (`predictive.solve_from_known`):
+    the entry it solves (h0_nom, v0_nom, gamma0_nom, default seed 000 Table 4.1), its (a_nom,
+    b_nom, tf_nom) and, with_k, its K_nom. tf_nom = 0 (the default) starts from the Table 8.1 fits
+    instead, as the seed does."""
+    h0, v0, gamma0 = ENTRY_000
+    p = slave.parameter
+    p("h0_nom", h0, "m", "Entry altitude of the known solution")
+    p("v0_nom", v0, "m/s", "Entry speed of the known solution", min=POSITIVE)
+    p("gamma0_nom", gamma0, "rad", "Entry flight-path angle of the known solution")
+    p("a_nom", 0.0, "m/s2", "Intercept a of the known solution (a start: converged or not)")
+    p("b_nom", 0.0, "m/s3", "Slope b of the known solution")
+    p("tf_nom", 0.0, "s", "tf' of the known solution; 0: start from the Table 8.1 fits (seed 000)", min=0.0)
+    if with_k:
+        p("K_nom", K_BALL_000, "1/m", "Ballistic parameter K of the known solution", min=POSITIVE)
+
+
+def known_solution(slave, k_ball: float):
+    """The `KnownSolution` declared by `declare_known_solution` (K_nom if declared, else k_ball
+    1/m), or None when tf_nom is 0."""
+    if slave.tf_nom <= 0.0:
+        return None
+    return KnownSolution((slave.h0_nom, slave.v0_nom, slave.gamma0_nom), getattr(slave, "K_nom", k_ball),
+                         (slave.a_nom, slave.b_nom, slave.tf_nom))
 
 
 def declare_plane_change_problem(slave):

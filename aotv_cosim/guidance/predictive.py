@@ -7,9 +7,11 @@ all three exit conditions at tf' (Ch. 6: six boundary conditions, three unknowns
 `solve_predictive` solves the three terminal residuals for (a, b, tf') at once by damped Newton,
 with the exact Jacobian: the sensitivities d x(tf)/d(a, b) are integrated with the state (linear
 variational equations with the matrices of eqs. 5.2/5.3) and d x(tf)/d tf' = f(x(tf'), u(tf')).
-`solve_predictive_thesis` is the thesis's own iteration (6.1)-(6.4), kept as a faithful mode: an
-inner 2-unknown shooting for (a, b) at fixed tf', then the tf' update (6.3) with the closed-form
-slope (6.4). It does not converge (extraction Sec. 8 item 12) and reports its tf' history.
+`solve_from_known` reaches an entry far from the fits' (the aerocapture sets) by continuation
+from a known solution, the mission's nominal. `solve_predictive_thesis` is the thesis's own
+iteration (6.1)-(6.4), kept as a faithful mode: an inner 2-unknown shooting for (a, b) at fixed
+tf', then the tf' update (6.3) with the closed-form slope (6.4). It does not converge
+(extraction Sec. 8 item 12) and reports its tf' history.
 
 Everything here is SI (m, m/s, rad, m/s^2, s); the equations are unit-consistent. K (k_ball) is in
 1/m, as in Table 8.1, except inside the fits (8.2)-(8.4), which need it in 1/km.
@@ -66,28 +68,70 @@ _ground.terminal = True
 _ground.direction = -1
 
 
-def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConstants,
-                                 stop_at_ground: bool = False):
+class _EnergyFloor:
+    """Event of a flight that can no longer reach the exit: its specific energy v^2/2 + g r (m^2/s^2),
+    which drag only lowers (d/dt = -K exp(-h/H) v^3 in (2.7)) and lift does not change, falls below
+    that of the exit point flown at half the exit speed, so its exit speed would miss by more than
+    half the target. Such a flight ends in dense air at a few m/s, where (2.7) is stiff: a Newton
+    trial of a steep aerocapture entry integrated for minutes before this event stopped it."""
+
+    terminal = True
+    direction = -1
+
+    def __init__(self, exit_target, c: AotvConstants):
+        self.floor = 0.125 * exit_target[1] ** 2 + c.g * (c.r_earth + exit_target[0])
+
+    def __call__(self, _t, y, _a, _b, c: AotvConstants) -> float:
+        return 0.5 * y[1] * y[1] + c.g * y[0] - self.floor
+
+
+def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConstants, events=()):
     """State x(tf) (r m, v m/s, gamma rad) of (2.7) under u = a + b t and the 3x3 Jacobian of
-    x(tf) with respect to (a, b, tf); None if stop_at_ground and the trajectory hits the ground
-    (r = R_e) before tf.
+    x(tf) with respect to (a, b, tf); None if one of the terminal events (`_ground`,
+    `_EnergyFloor`) stops the flight before tf.
 
     The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
     along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
     relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
-    The ground event does not change the steps taken (solve_ivp locates events after each step).
+    Events do not change the steps taken (solve_ivp locates them after each step).
     """
     from scipy.integrate import solve_ivp  # here: not every law needs scipy
 
     y0 = np.concatenate([x0, np.zeros(6)])
     sol = solve_ivp(time_linear_variational, (0.0, tf), y0, method="DOP853", rtol=RTOL, atol=_ATOL,
-                    args=(a, b, c), events=_ground if stop_at_ground else None)
+                    args=(a, b, c), events=list(events) or None)
     if sol.status == 1:
         return None
     y = sol.y[:, -1]
     x = y[:3]
     jac = np.column_stack([y[3:].reshape(3, 2), dynamics(x, a + b * tf, c)])
     return x, jac
+
+
+_NOT_FLOWN = object()
+"""Marks a Newton trial that was not integrated (tf' <= 0) or overflowed."""
+
+
+def _flown_trial(x0, trial, c: AotvConstants, floor: _EnergyFloor, last: bool):
+    """x(tf) and the Jacobian for the trial (a, b, tf'); None if it hits the ground (all but the
+    last halving stop there) or its energy falls below the floor; _NOT_FLOWN if tf' <= 0. The
+    last halving is flown through the ground, as it always was; a float overflow there
+    (exp(-h/H) far below the ground) counts as not flown."""
+    if trial[2] <= 0.0:
+        return _NOT_FLOWN
+    if not last:
+        return _terminal_with_sensitivities(x0, *trial, c, (_ground, floor))
+    try:
+        return _terminal_with_sensitivities(x0, *trial, c, (floor,))
+    except (OverflowError, FloatingPointError):
+        return _NOT_FLOWN
+
+
+def _bounded(step, tf: float, max_du: float, max_dtf: float) -> np.ndarray:
+    """The Newton step (da m/s^2, db m/s^3, dtf s) scaled down, direction kept, so that the command
+    changes by at most max_du (m/s^2) on [0, tf] (|da| + |db| tf) and tf' by at most max_dtf tf."""
+    scale = max((abs(step[0]) + abs(step[1]) * tf) / max_du, abs(step[2]) / (max_dtf * tf), 1.0)
+    return step / scale
 
 
 def _residual(x, exit_target, c: AotvConstants) -> np.ndarray:
@@ -98,7 +142,8 @@ def _residual(x, exit_target, c: AotvConstants) -> np.ndarray:
 
 def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
                      guess: Optional[Tuple[float, float, float]] = None,
-                     max_iter: int = 20) -> PredictiveSolution:
+                     max_iter: int = 20, max_step: Optional[Tuple[float, float]] = None
+                     ) -> PredictiveSolution:
     """Solve for (a, b, tf') of the predictive time-linear law (Ch. 6, eqs. 4.8, 6.1, 6.2).
 
     entry: (h0 m, v0 m/s, gamma0 rad); exit_target: (hf m, vf m/s, gammaf rad); k_ball: K in 1/m.
@@ -110,31 +155,104 @@ def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
     ground at 1 m/s, where the flight-path equation is stiff and DOP853 took 130,000 evaluations
     (4 s; 2 runs in 40 of the benchmark campaign). Such a trajectory is ~8 km/s short of the exit
     speed, so its residual never decreased the norm and the iterates are unchanged.
+
+    Guards stop a solve that cannot progress instead of flying nonsense (they were added for the
+    aerocapture entries; the seed-000 scenarios and both seed-000 predictive benchmark campaigns,
+    N = 1000, give the same rows with and without them): a flight whose energy falls below
+    `_EnergyFloor` stops there (the first one ends the solve, unconverged); a trial with tf' <= 0
+    is not flown (a Newton step from a trajectory that falls vertically asked for tf' = -1.7e8 s
+    and integrated backwards for minutes); a last halving that cannot be flown (tf' <= 0, the
+    energy floor, a float overflow deep below the ground) or a singular Jacobian ends the solve,
+    unconverged, at z.
+    max_step: (m/s^2, fraction) bounds of each Newton step (`_bounded`), None for the full step.
     """
     start = time.perf_counter()
     c = AotvConstants.si(k_ball)
     x0 = _entry_state(entry, c)
     z = np.array(guess if guess is not None else table_8_1_fit(k_ball, corrected_intercept=True))
     weights = np.array([1e-3, 1.0, 1e3])
-    x, jac = _terminal_with_sensitivities(x0, *z, c)
-    res = _residual(x, exit_target, c)
+    floor = _EnergyFloor(exit_target, c)
+    first = _terminal_with_sensitivities(x0, *z, c, (floor,)) if z[2] > 0.0 else None
+    if first is None:
+        return PredictiveSolution(float(z[0]), float(z[1]), float(z[2]), np.full(3, np.inf), int(z[2] > 0.0),
+                                  False, time.perf_counter() - start)
+    res = _residual(first[0], exit_target, c)
+    jac = first[1]
     iterations = 1
     while not np.all(np.abs(res) < TERMINAL_TOL) and iterations < max_iter:
-        step = np.linalg.solve(jac, -res)
+        try:
+            step = np.linalg.solve(jac, -res)
+        except np.linalg.LinAlgError:  # a singular Jacobian: no Newton direction from z
+            break
+        if max_step is not None:
+            step = _bounded(step, z[2], *max_step)
         norm = np.linalg.norm(weights * res)
         for halving in range(8):
             trial = z + step / 2.0 ** halving
-            flown = _terminal_with_sensitivities(x0, *trial, c, stop_at_ground=halving < 7)
-            iterations += 1
-            if flown is None:
+            flown = _flown_trial(x0, trial, c, floor, last=halving == 7)
+            iterations += flown is not _NOT_FLOWN
+            if flown is None or flown is _NOT_FLOWN:
                 continue
-            x, jac = flown
-            res = _residual(x, exit_target, c)
-            if np.linalg.norm(weights * res) < norm:
+            trial_res = _residual(flown[0], exit_target, c)
+            if halving == 7 or np.linalg.norm(weights * trial_res) < norm:
                 break
-        z = trial
+        else:  # not even the last halving could be flown: no step is possible from z
+            break
+        z, jac, res = trial, flown[1], trial_res
     converged = bool(np.all(np.abs(res) < TERMINAL_TOL))
     return PredictiveSolution(float(z[0]), float(z[1]), float(z[2]), res, iterations, converged,
+                              time.perf_counter() - start)
+
+
+CONTINUATION_STEP = (1.0, 0.25)
+"""Largest Newton step of a continuation solve: 1 m/s^2 of command anywhere on [0, tf'] and a
+quarter of tf'. Each solve starts from the solution of a nearby problem, so a larger step means a
+Jacobian taken far from the root (a steep entry's first flight falls vertically), not progress."""
+
+
+@dataclass(frozen=True)
+class KnownSolution:
+    """A start for `solve_from_known`: (a m/s^2, b m/s^3, tf' s) near the solution of the problem
+    with entry (h m, v m/s, gamma rad) and K k_ball (1/m), e.g. the mission's nominal."""
+
+    entry: Tuple[float, float, float]
+    k_ball: float
+    guess: Tuple[float, float, float]
+
+
+def solve_from_known(entry, exit_target, k_ball: float, known: KnownSolution,
+                     max_flights: int = 200, min_fraction: float = 1.0 / 64.0) -> PredictiveSolution:
+    """`solve_predictive` for (entry, k_ball), by continuation from a known problem's solution.
+
+    The known problem is solved first from its guess; then the entry state and K move from the
+    known problem's towards (entry, k_ball) in fractions lambda of the way, each solve starting
+    from the last converged (a, b, tf'): a full step is tried first, a failed one is halved (down
+    to min_fraction), a converged one lets the next step double. This is how the law flies an
+    entry far from the one its Table 8.1 fits describe: a steep entry of the AFE-class aerocapture
+    set, started directly from the nominal's (a, b, tf'), first flies a trajectory that falls
+    vertically, and no Newton step from there is usable. Stops unconverged after max_flights
+    integrations in all; iterations counts them all.
+    """
+    start = time.perf_counter()
+    known_entry = np.asarray(known.entry, dtype=float)
+    entry = np.asarray(entry, dtype=float)
+    sol = solve_predictive(known_entry, exit_target, known.k_ball, known.guess)
+    flights = sol.iterations
+    done, fraction = 0.0, 1.0
+    while sol.converged and done < 1.0 and flights < max_flights:
+        lam = min(1.0, done + fraction)
+        trial = solve_predictive(known_entry + lam * (entry - known_entry), exit_target,
+                                 known.k_ball + lam * (k_ball - known.k_ball), (sol.a, sol.b, sol.tf),
+                                 max_step=CONTINUATION_STEP)
+        flights += trial.iterations
+        if trial.converged:
+            sol, done, fraction = trial, lam, 2.0 * fraction
+        elif fraction / 2.0 < min_fraction:
+            sol = trial
+        else:
+            fraction /= 2.0
+    converged = sol.converged and done == 1.0
+    return PredictiveSolution(sol.a, sol.b, sol.tf, sol.residual, flights, converged,
                               time.perf_counter() - start)
 
 
@@ -203,18 +321,23 @@ def estimate_k_ball(v_dot: float, h0: float, v0: float, gamma0: float,
 
 def solve_predictive_adaptive(entry, drag_acc: float, exit_target=EXIT_000,
                               g: float = AotvConstants.si().g,
-                              scale_height: float = AotvConstants.si().scale_height):
+                              scale_height: float = AotvConstants.si().scale_height,
+                              known: Optional[KnownSolution] = None):
     """Predictive adaptive law of Sec. 8.1: K from the entry deceleration (8.1), then (a, b, tf').
 
     entry: (h0 m, v0 m/s, gamma0 rad); drag_acc: the drag specific force D/m measured at entry
     (m/s^2, positive), so the measured dv/dt of (2.7) is -drag_acc - g sin(gamma0). (a, b, tf')
     are re-solved by `solve_predictive` for the estimated K (rather than read off the fits
-    (8.2)-(8.4)). Returns (K in 1/m, PredictiveSolution) with solve_time covering both steps.
+    (8.2)-(8.4)), or continued from `known` when given (`solve_from_known`). Returns (K in 1/m,
+    PredictiveSolution) with solve_time covering both steps.
     """
     start = time.perf_counter()
     v_dot = -drag_acc - g * math.sin(entry[2])
     k_est = estimate_k_ball(v_dot, entry[0], entry[1], entry[2], g, scale_height)
-    sol = solve_predictive(entry, exit_target, k_est)
+    if known is None:
+        sol = solve_predictive(entry, exit_target, k_est)
+    else:
+        sol = solve_from_known(entry, exit_target, k_est, known)
     return k_est, PredictiveSolution(sol.a, sol.b, sol.tf, sol.residual, sol.iterations,
                                      sol.converged, time.perf_counter() - start)
 
