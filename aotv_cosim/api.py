@@ -65,8 +65,7 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
         raise InputError("plots need an output folder", entry="plots", fix="give out=FOLDER, or plots=False")
     with _ONE_AT_A_TIME:  # loading may build FMUs into the shared cache: in the lock too
         loaded = _scenario(scenario, set, start, stop, step)
-        if fmi_calls not in (None, "c", "direct"):
-            raise InputError(f"unknown fmi_calls {fmi_calls!r}", entry="fmi_calls", fix='give "c" or "direct"')
+        _check_fmi_calls(fmi_calls)
         if out is None:
             return Result(*simulate(loaded, fmi_calls=fmi_calls))
         return Result(*write_run(loaded, out, make_plots=plots, formats=formats, fmi_calls=fmi_calls),
@@ -75,7 +74,7 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
 
 def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int = 0, scheduler=None,
                out: Optional[PathLike] = None, set: Overrides = None, start: Optional[float] = None,
-               stop: Optional[float] = None, keep_series: bool = False) -> Campaign:
+               stop: Optional[float] = None, keep_series: bool = False, fmi_calls: Optional[str] = None) -> Campaign:
     """Run `runs` dispersed runs of a scenario over its declared dispersions (`aotv-cosim montecarlo`).
 
     Parameters:
@@ -90,6 +89,7 @@ def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int 
         set, start, stop: as for `run`.
         keep_series: also keep every run's recorded signals (about 200 rows a run) in
             out/series.parquet and draw trajectories.png.
+        fmi_calls: as for `run`; the rows do not depend on it.
 
     Returns:
         a `Campaign`: `.rows` (one row per run, units in `.units`), `.statistics`, `.summary`.
@@ -100,6 +100,7 @@ def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int 
     from aotv_cosim.campaigns.backends import usable_cores
     from aotv_cosim.model.scenario import Scenario
 
+    _check_fmi_calls(fmi_calls)
     path = scenario.path if isinstance(scenario, Scenario) else Path(scenario)
     if workers is None:
         workers = usable_cores()
@@ -107,7 +108,7 @@ def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int 
         folder = Path(out) if out is not None else Path(tmp)
         summary = run_campaign(path, runs, folder, workers=workers, seed=seed, scheduler=scheduler,
                                sets=set or None, start=start, stop=stop, progress=False,
-                               make_plots=out is not None, keep_series=keep_series)
+                               make_plots=out is not None, keep_series=keep_series, fmi_calls=fmi_calls)
         rows = pd.read_parquet(folder / "rows.parquet")
     return Campaign(summary, rows, out=Path(out) if out is not None else None)
 
@@ -130,7 +131,7 @@ class Benchmark:
 
 def benchmark(scenario_set: PathLike, laws: Iterable[PathLike] = (), *, runs: int = 1000,
               workers: Optional[int] = None, seed: int = 0, scheduler=None, out: Optional[PathLike] = None,
-              reuse: bool = True) -> Benchmark:
+              reuse: bool = True, fmi_calls: Optional[str] = None) -> Benchmark:
     """Fly every law of a scenario set and your own laws through the same dispersions
     (`aotv-cosim benchmark`).
 
@@ -142,6 +143,7 @@ def benchmark(scenario_set: PathLike, laws: Iterable[PathLike] = (), *, runs: in
         out: the output folder, or None for a temporary one.
         reuse: laws whose scenario, FMUs, dispersions, seed and runs are unchanged since an
             earlier benchmark are not flown again (their stored rows are reused); False flies all.
+        fmi_calls: as for `run`; the rows do not depend on it.
 
     Returns:
         a `Benchmark`: `.scorecard` (one row per law) and `.rows` (every run) as DataFrames.
@@ -152,11 +154,12 @@ def benchmark(scenario_set: PathLike, laws: Iterable[PathLike] = (), *, runs: in
     from aotv_cosim.campaigns.backends import usable_cores
     from aotv_cosim.campaigns.benchmark import run_benchmark
 
+    _check_fmi_calls(fmi_calls)
     with tempfile.TemporaryDirectory(prefix="aotv_bench_") as tmp:
         folder = Path(out) if out is not None else Path(tmp)
         result = run_benchmark(scenario_set, runs, folder, workers=workers or usable_cores(), seed=seed,
                                scheduler=scheduler, progress=False, laws=[str(p) for p in laws],
-                               reuse=reuse)
+                               reuse=reuse, fmi_calls=fmi_calls)
         table = pq.read_table(folder / "rows.parquet")
     rows = table.to_pandas()
     rows.attrs["units"] = {field.name: (field.metadata or {}).get(b"unit", b"").decode() for field in table.schema}
@@ -216,6 +219,12 @@ def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.
     with tempfile.TemporaryDirectory(prefix="aotv_corridor_") as tmp:
         return run_corridor(scenario, Path(out) if out is not None else Path(tmp), lift_to_drag, tolerance,
                             tuple(bracket))
+
+
+def _check_fmi_calls(fmi_calls):
+    """Refuse an fmi_calls other than None, "c" and "direct" (InputError)."""
+    if fmi_calls not in (None, "c", "direct"):
+        raise InputError(f"unknown fmi_calls {fmi_calls!r}", entry="fmi_calls", fix='give "c" or "direct"')
 
 
 def _scenario(scenario, sets, start, stop, step):

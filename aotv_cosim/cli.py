@@ -114,6 +114,13 @@ def _step_timeout(default_text="the scenario's step_timeout, else none"):
                              f"fails the run, its rows kept [{default_text}].")
 
 
+_FMI_CALLS = click.option(
+    "--fmi-calls", type=click.Choice(["c", "direct"]), default=None,
+    help="How the FMUs are called: direct, this package's own FMUs called in this process's Python (faster, "
+         "the same results), others through their FMI C libraries; c, every FMU through its C library [direct].")
+"""The --fmi-calls option of run, montecarlo and benchmark."""
+
+
 def _limited(scenario, step_timeout):
     """The scenario with --step-timeout applied (when given)."""
     import dataclasses
@@ -134,10 +141,7 @@ _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")
               help="Time series file: timeseries.csv, timeseries.parquet (units in the field metadata) or both.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG plots.")
 @_step_timeout()
-@click.option("--fmi-calls", type=click.Choice(["c", "direct"]), default=None,
-              help="How the FMUs are called: direct, this package's own FMUs called in this process's "
-                   "Python (faster, the same results), others through their FMI C libraries; c, every FMU "
-                   "through its C library [direct].")
+@_FMI_CALLS
 def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_timeout, fmi_calls):
     """Run SCENARIO: writes timeseries.csv (or .parquet), summary.json (with the units) and plots.
 
@@ -326,8 +330,9 @@ def build_fmus(sources, out):
 @click.option("--max-rss", type=click.FloatRange(min=0, min_open=True), default=2048, show_default=True,
               metavar="MIB", help="Resident memory a local worker may use, MiB: a run that passes it is recorded "
                                   "failed and its worker replaced.")
+@_FMI_CALLS
 def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep_series, start, stop, step_timeout,
-               max_rss):
+               max_rss, fmi_calls):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
     from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report import console_table
@@ -344,7 +349,7 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
                                                     scheduler=scheduler, resume=resume,
                                                     sets=parse_sets(sets, file=scenario) or None, start=start, stop=stop,
                                                     keep_series=keep_series, step_timeout=step_timeout,
-                                                    max_rss=max_rss * 2**20))
+                                                    max_rss=max_rss * 2**20, fmi_calls=fmi_calls))
         for warning in summary["warnings"]:
             click.echo(f"warning: {warning}", err=True)
         rate = summary["runs_per_s"]
@@ -377,7 +382,8 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
 @click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
 @click.option("--refly", is_flag=True, help="Fly every law, even those whose stored rows could be reused.")
-def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
+@_FMI_CALLS
+def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly, fmi_calls):
     """Fly every law (scenario) of SET (a folder, one scenario file, or a shipped set by name:
     benchmark_seed000) and each --law through the
     same dispersions; write a scorecard. A law whose scenario, FMUs, dispersions, seed and N are
@@ -393,7 +399,7 @@ def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly):
             check_reachable(scheduler)
         result = _with_builds(lambda: run_benchmark(scenario_set, runs, out_dir, workers=workers, seed=seed,
                                                     scheduler=scheduler, laws=laws, echo=click.echo,
-                                                    reuse=not refly))
+                                                    reuse=not refly, fmi_calls=fmi_calls))
         click.echo(console(result["scorecard"], result["units"]))
         flown = [law for law, info in result["laws"].items() if not info["reused"]]
         click.echo(f"{len(result['scorecard'])} laws x {runs} runs ({len(flown)} flown now in "

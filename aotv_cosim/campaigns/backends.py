@@ -81,17 +81,17 @@ def _started(parent_pid, blas_threads):
 
 
 def local(ref: ScenarioRef, batches, workers, columns, step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT,
-          max_rss=DEFAULT_MAX_RSS, keep_series=False):
+          max_rss=DEFAULT_MAX_RSS, keep_series=False, fmi_calls=None):
     """Yield row lists of the scenario `ref` from `workers` replaceable processes (step_limit: s
     per step; max_rss: bytes per worker, None for no limit; see `pool`; keep_series: each row
-    carries its run's decimated signals).
+    carries its run's decimated signals; fmi_calls: as for `worker.Runner`).
 
     On a SIGINT/SIGTERM (see `interrupts`) it raises Interrupted within `pool.POLL` s and kills
     the workers: the runs in flight are not recorded, and a resumed campaign runs them again.
     """
     pool = _pool(workers, step_limit, max_rss)
     try:
-        tasks = {pool.submit(run_one, ref, run, values, step_limit, keep_series): (run, values)
+        tasks = {pool.submit(run_one, ref, run, values, step_limit, keep_series, fmi_calls): (run, values)
                  for batch in batches for run, values in batch}
         for task in pool.completed(tasks):
             try:
@@ -128,7 +128,8 @@ def _completed(client, futures, patience):
                                   "(see their logs), or run on local workers")
 
 
-def dask(ref: ScenarioRef, batches, address, columns, patience=NO_WORKER_PATIENCE, keep_series=False):
+def dask(ref: ScenarioRef, batches, address, columns, patience=NO_WORKER_PATIENCE, keep_series=False,
+         fmi_calls=None):
     """Yield row lists of the scenario `ref` from the Dask scheduler at `address` (a Client object is accepted too);
     fail after `patience` s without a worker (`_completed`). Dask runs tasks in worker threads,
     where the step watchdog cannot interrupt a step (`simulation.watchdog`); a crashed worker is
@@ -139,7 +140,7 @@ def dask(ref: ScenarioRef, batches, address, columns, patience=NO_WORKER_PATIENC
     try:
         queue = list(batches)
         while queue:
-            futures = {client.submit(run_batch, ref, b, keep_series, pure=False): tuple(b)
+            futures = {client.submit(run_batch, ref, b, keep_series, fmi_calls, pure=False): tuple(b)
                        for b in queue}
             queue = []
             for future in _completed(client, futures, patience):

@@ -221,7 +221,7 @@ def score(law, rows, cpu_per_run) -> dict:
 
 
 def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, progress=True, laws=(),
-                  echo=None, reuse=True) -> dict:
+                  echo=None, reuse=True, fmi_calls=None) -> dict:
     """Fly every law of the set, and each of the `laws` files (`law_scenarios`), for `runs` runs;
     returns (and writes as scorecard.json) the set, runs, seed, "scorecard" (one dict per law),
     its "units", "wall_time_s" of the campaigns flown now, "laws" ({law: {scenario, wall_time_s,
@@ -230,7 +230,8 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
     A law whose scenario, FMUs, dispersions, seed and N are those of a campaign finished before
     (`campaign_key`) is not flown again: its rows are read from `stored_rows_dir()` (unless
     `reuse` is False; every campaign flown to the end is stored). echo(text),
-    if given, is told which laws are reused and which are flown."""
+    if given, is told which laws are reused and which are flown. fmi_calls: how the runs call the
+    FMUs (`CampaignOptions`); the rows do not depend on it, so it is not part of the key."""
     out = Path(out_dir)
     set_scenarios = scenarios_of(set_dir)
     flown = law_scenarios(set_scenarios, laws, out)  # every law checked before anything is written
@@ -248,8 +249,8 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
         else:
             if echo:
                 echo(f"{law}: flying {runs} runs")
-            rows, record = _fly(law, path, scenario, runs, out, CampaignOptions(workers, seed, scheduler,
-                                                                                progress=progress))
+            options = CampaignOptions(workers, seed, scheduler, progress=progress, fmi_calls=fmi_calls)
+            rows, record = _fly(law, path, scenario, runs, out, options)
             summaries[law] = {"scenario": str(path), "wall_time_s": record["wall_time_s"], "reused": False}
             if record["status"] == Status.COMPLETED and len(rows) == runs:
                 _store(key, rows, list(rows[0]), record)

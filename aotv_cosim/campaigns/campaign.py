@@ -9,7 +9,7 @@ from aotv_cosim.simulation import interrupts, watchdog
 
 from aotv_cosim.output import plausibility
 from aotv_cosim.errors import InputError
-from aotv_cosim.simulation.master import Interrupted
+from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.campaigns import backends, report, statistics
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS
@@ -45,7 +45,7 @@ def batches_of(items, workers):
 
 def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None, resume=False,
                  sets=None, progress=True, make_plots=True, start=None, stop=None, keep_series=False,
-                 step_timeout=None, max_rss=DEFAULT_MAX_RSS) -> dict:
+                 step_timeout=None, max_rss=DEFAULT_MAX_RSS, fmi_calls=None) -> dict:
     """Run `runs` dispersed runs of the scenario; returns the campaign summary (summary.json).
 
     scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
@@ -58,10 +58,12 @@ def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None
     step_timeout: wall-clock limit of one step, s (default the scenario's step_timeout, else
     `watchdog.CAMPAIGN_STEP_TIMEOUT`); max_rss: a local worker's memory limit, bytes (None: none).
     A run that passes either, or crashes its worker, is a 'failed' row with the cause (`pool`).
+    fmi_calls: "c" or "direct" (`simulation.master`; None: its default, "direct"); the rows do not
+    depend on it.
     """
     ref = ScenarioRef.of(Path(scenario_path).resolve(), sets, start, stop)
     options = CampaignOptions(workers, seed, scheduler, resume, progress, make_plots, keep_series, step_timeout,
-                              max_rss)
+                              max_rss, fmi_calls)
     return fly(ref, ref.load(), runs, out_dir, options)
 
 
@@ -82,6 +84,8 @@ class CampaignOptions:
     """Wall-clock limit of one step, s (None: the scenario's, else `watchdog.CAMPAIGN_STEP_TIMEOUT`)."""
     max_rss: Optional[int] = DEFAULT_MAX_RSS
     """A local worker's memory limit, bytes (None: none)."""
+    fmi_calls: Optional[str] = None
+    """How the master calls the FMUs, "c" or "direct" (None: `master.FMI_CALLS_DEFAULT`)."""
 
 
 def fly(ref: ScenarioRef, scenario: Scenario, runs: int, out_dir, options: CampaignOptions) -> dict:
@@ -107,8 +111,9 @@ def _campaign(ref, scenario, runs, out, options):
     local = options.scheduler is None
     chunks = batches_of(work, options.workers if local else max(1, options.workers))
     source = (backends.local(ref, chunks, options.workers, names, step_limit, options.max_rss,
-                             keep_series=options.keep_series) if local
-              else backends.dask(ref, chunks, options.scheduler, names, keep_series=options.keep_series))
+                             keep_series=options.keep_series, fmi_calls=options.fmi_calls) if local
+              else backends.dask(ref, chunks, options.scheduler, names, keep_series=options.keep_series,
+                                 fmi_calls=options.fmi_calls))
     series = {}
     bar = None
     if options.progress:
@@ -143,6 +148,7 @@ def _campaign(ref, scenario, runs, out, options):
         "stop_reason": f"interrupted by {interrupts.name()}" if status == Status.INTERRUPTED else None,
         "scenario": ref.path, "runs": runs, "seed": options.seed,
         "backend": "local" if local else "dask", "workers": options.workers,
+        "fmi_calls": options.fmi_calls or FMI_CALLS_DEFAULT,
         "runs_this_session": len(rows) - (runs - len(todo)), "wall_time_s": wall,
         "runs_per_s": (len(rows) - (runs - len(todo))) / wall if wall > 0 else None,
         "statuses": statuses,

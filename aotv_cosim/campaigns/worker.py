@@ -73,9 +73,11 @@ class _Extrema:
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, ref: ScenarioRef, keep_series=False, step_limit=None):
+    def __init__(self, ref: ScenarioRef, keep_series=False, step_limit=None, fmi_calls=None):
         """keep_series: keep each run's recorded signals, decimated (`SERIES_POINTS`); step_limit:
-        the campaign's wall-clock limit per step, s (`simulation.watchdog`; None: the scenario's)."""
+        the campaign's wall-clock limit per step, s (`simulation.watchdog`; None: the scenario's);
+        fmi_calls: how the master calls the FMUs ("c" or "direct", `simulation.master`; None: its
+        default)."""
         self.scenario = ref.load()
         if step_limit is not None:
             self.scenario.step_timeout = step_limit
@@ -83,6 +85,7 @@ class Runner:
         self.signals = numeric_columns(self.scenario)
         self.columns = columns(self.scenario)
         self.pool = {}
+        self.fmi_calls = fmi_calls
 
     def run(self, run: int, values: dict) -> dict:
         """The row of one run with the dispersed `values` ({'comp.var': value}), classified when
@@ -98,7 +101,7 @@ class Runner:
         row.update(run=run, status=Status.ERROR, error="")
         row.update({f"dispersed.{k}": v for k, v in values.items()})
         try:
-            master = Master(self.scenario, overrides=values, pool=self.pool)
+            master = Master(self.scenario, overrides=values, pool=self.pool, fmi_calls=self.fmi_calls)
             extrema = _Extrema(master, self.signals, self.spacing)
             outcome = master.run(extrema)
         except Exception as exc:  # a bad draw (e.g. a value the FMU rejects): record it, go on
@@ -119,26 +122,26 @@ class Runner:
         return row
 
 
-def runner(ref: ScenarioRef, keep_series=False, step_limit=None) -> Runner:
+def runner(ref: ScenarioRef, keep_series=False, step_limit=None, fmi_calls=None) -> Runner:
     """This thread's Runner for the scenario (made on first use)."""
-    key = (ref, keep_series, step_limit)
+    key = (ref, keep_series, step_limit, fmi_calls)
     cache = getattr(_LOCAL, "runners", None)
     if cache is None:
         cache = _LOCAL.runners = {}
     if key not in cache:
-        cache[key] = Runner(ref, keep_series, step_limit)
+        cache[key] = Runner(ref, keep_series, step_limit, fmi_calls)
     return cache[key]
 
 
-def run_batch(ref: ScenarioRef, batch, keep_series=False) -> list:
+def run_batch(ref: ScenarioRef, batch, keep_series=False, fmi_calls=None) -> list:
     """Rows of a batch [(run, values), ...] (the task sent to a Dask worker)."""
-    r = runner(ref, keep_series)
+    r = runner(ref, keep_series, fmi_calls=fmi_calls)
     return [r.run(run, values) for run, values in batch]
 
 
-def run_one(ref: ScenarioRef, run, values, step_limit=None, keep_series=False) -> dict:
+def run_one(ref: ScenarioRef, run, values, step_limit=None, keep_series=False, fmi_calls=None) -> dict:
     """The row of one run (the task sent to a local worker)."""
-    return runner(ref, keep_series, step_limit).run(run, values)
+    return runner(ref, keep_series, step_limit, fmi_calls).run(run, values)
 
 
 def release() -> None:
