@@ -35,6 +35,6 @@ def display(name, unit) -> tuple:
     """(display unit, factor) of a column in `unit` (SI): `DISPLAY`, km/s for a speed."""
     if unit == "m/s" and name.endswith(".v"):
         return "km/s", 1e-3
-    if unit == "1" and "load_factor" in name:
+    if unit == "1" and "load_factor" in name and not name.startswith("over_"):  # over_*: a count of runs
         return "g", 1.0
     return DISPLAY.get(unit, (unit, 1.0))
