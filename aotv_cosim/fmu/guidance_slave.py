@@ -21,6 +21,7 @@ from functools import lru_cache
 from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.guidance.optimal_bvp import solve_min_effort
 from aotv_cosim.guidance.predictive import KnownSolution
+from aotv_cosim.guidance.time_linear import approximate_law_coefficients
 from aotv_cosim.physics import mrrv, shuttle_pitch, shuttle_trajectory
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 from aotv_cosim.physics.planar import ENTRY_000, EXIT_000, K_BALL_000, TF_000
@@ -45,26 +46,30 @@ def declare_exit_targets_and_k(slave):
 
 
 def declare_known_solution(slave, with_k: bool = False):
-    """Parameters of a known predictive solution to start from (`predictive.solve_from_known`):
-    the entry it solves (h0_nom, v0_nom, gamma0_nom, default seed 000 Table 4.1), its (a_nom,
-    b_nom, tf_nom) and, with_k, its K_nom. tf_nom = 0 (the default) starts from the Table 8.1 fits
-    instead, as the seed does."""
+    """Parameters of a known predictive solution to start from (`predictive.solve_from_known`)
+    when start_from_nominal is 1: the entry it solves (h0_nom, v0_nom, gamma0_nom), its (a_nom,
+    b_nom, tf_nom) and, with_k, its K_nom; defaults: seed 000's nominal (Table 4.1 entry, the
+    time-linear law's a, b at tf = 300 s, eq. 2.8's K). start_from_nominal 0 (the default) starts
+    from the Table 8.1 fits instead, as the seed does."""
     h0, v0, gamma0 = ENTRY_000
+    a, b = approximate_law_coefficients(v0, gamma0, h0, TF_000)
+    slave.integer_parameter("start_from_nominal", 0, "1: continue the solve from the known solution "
+                            "(h0_nom ... tf_nom); 0: start from the Table 8.1 fits (seed 000)", min=0, max=1)
     p = slave.parameter
     p("h0_nom", h0, "m", "Entry altitude of the known solution")
     p("v0_nom", v0, "m/s", "Entry speed of the known solution", min=POSITIVE)
     p("gamma0_nom", gamma0, "rad", "Entry flight-path angle of the known solution")
-    p("a_nom", 0.0, "m/s2", "Intercept a of the known solution (a start: converged or not)")
-    p("b_nom", 0.0, "m/s3", "Slope b of the known solution")
-    p("tf_nom", 0.0, "s", "tf' of the known solution; 0: start from the Table 8.1 fits (seed 000)", min=0.0)
+    p("a_nom", a, "m/s2", "Intercept a of the known solution (a start: converged or not)")
+    p("b_nom", b, "m/s3", "Slope b of the known solution")
+    p("tf_nom", TF_000, "s", "tf' of the known solution", min=POSITIVE)
     if with_k:
         p("K_nom", K_BALL_000, "1/m", "Ballistic parameter K of the known solution", min=POSITIVE)
 
 
 def known_solution(slave, k_ball: float):
     """The `KnownSolution` declared by `declare_known_solution` (K_nom if declared, else k_ball
-    1/m), or None when tf_nom is 0."""
-    if slave.tf_nom <= 0.0:
+    1/m), or None when start_from_nominal is 0."""
+    if not slave.start_from_nominal:
         return None
     return KnownSolution((slave.h0_nom, slave.v0_nom, slave.gamma0_nom), getattr(slave, "K_nom", k_ball),
                          (slave.a_nom, slave.b_nom, slave.tf_nom))

@@ -85,10 +85,21 @@ class _EnergyFloor:
         return 0.5 * y[1] * y[1] + c.g * y[0] - self.floor
 
 
+def _loop(_t, y, _a, _b, _c) -> float:
+    """pi/2 - |gamma|: its zero, crossed downward, is a flight turning past the vertical (a Newton
+    trial with a lift of hundreds of m/s^2 loops over and over above the atmosphere, where no
+    event of the energy or the ground stops it; no aerocapture pass flies there)."""
+    return 0.5 * math.pi - abs(y[2])
+
+
+_loop.terminal = True
+_loop.direction = -1
+
+
 def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConstants, events=()):
     """State x(tf) (r m, v m/s, gamma rad) of (2.7) under u = a + b t and the 3x3 Jacobian of
     x(tf) with respect to (a, b, tf); None if one of the terminal events (`_ground`,
-    `_EnergyFloor`) stops the flight before tf.
+    `_EnergyFloor`, `_loop`) stops the flight before tf.
 
     The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
     along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
@@ -114,15 +125,15 @@ _NOT_FLOWN = object()
 
 def _flown_trial(x0, trial, c: AotvConstants, floor: _EnergyFloor, last: bool):
     """x(tf) and the Jacobian for the trial (a, b, tf'); None if it hits the ground (all but the
-    last halving stop there) or its energy falls below the floor; _NOT_FLOWN if tf' <= 0. The
+    last halving stop there), its energy falls below the floor or it loops; _NOT_FLOWN if tf' <= 0. The
     last halving is flown through the ground, as it always was; a float overflow there
     (exp(-h/H) far below the ground) counts as not flown."""
     if trial[2] <= 0.0:
         return _NOT_FLOWN
     if not last:
-        return _terminal_with_sensitivities(x0, *trial, c, (_ground, floor))
+        return _terminal_with_sensitivities(x0, *trial, c, (_ground, floor, _loop))
     try:
-        return _terminal_with_sensitivities(x0, *trial, c, (floor,))
+        return _terminal_with_sensitivities(x0, *trial, c, (floor, _loop))
     except (OverflowError, FloatingPointError):
         return _NOT_FLOWN
 
@@ -159,11 +170,11 @@ def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
     Guards stop a solve that cannot progress instead of flying nonsense (they were added for the
     aerocapture entries; the seed-000 scenarios and both seed-000 predictive benchmark campaigns,
     N = 1000, give the same rows with and without them): a flight whose energy falls below
-    `_EnergyFloor` stops there (the first one ends the solve, unconverged); a trial with tf' <= 0
-    is not flown (a Newton step from a trajectory that falls vertically asked for tf' = -1.7e8 s
-    and integrated backwards for minutes); a last halving that cannot be flown (tf' <= 0, the
-    energy floor, a float overflow deep below the ground) or a singular Jacobian ends the solve,
-    unconverged, at z.
+    `_EnergyFloor`, or that turns past the vertical (`_loop`), stops there (the first one ends the
+    solve, unconverged); a trial with tf' <= 0 is not flown (a Newton step from a trajectory that
+    falls vertically asked for tf' = -1.7e8 s and integrated backwards for minutes); a last
+    halving that cannot be flown (tf' <= 0, an event, a float overflow deep below the ground) or a
+    singular Jacobian ends the solve, unconverged, at z.
     max_step: (m/s^2, fraction) bounds of each Newton step (`_bounded`), None for the full step.
     """
     start = time.perf_counter()
@@ -172,7 +183,7 @@ def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
     z = np.array(guess if guess is not None else table_8_1_fit(k_ball, corrected_intercept=True))
     weights = np.array([1e-3, 1.0, 1e3])
     floor = _EnergyFloor(exit_target, c)
-    first = _terminal_with_sensitivities(x0, *z, c, (floor,)) if z[2] > 0.0 else None
+    first = _terminal_with_sensitivities(x0, *z, c, (floor, _loop)) if z[2] > 0.0 else None
     if first is None:
         return PredictiveSolution(float(z[0]), float(z[1]), float(z[2]), np.full(3, np.inf), int(z[2] > 0.0),
                                   False, time.perf_counter() - start)

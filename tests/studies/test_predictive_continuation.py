@@ -69,6 +69,15 @@ def test_a_guess_with_no_time_in_the_atmosphere_is_not_flown():
     assert not sol.converged and sol.iterations == 0 and np.all(np.isinf(sol.residual))
 
 
+@pytest.mark.parametrize("guess", [(1e3, 0.0, 300.0), (-1e3, 0.0, 300.0), (0.001, 0.002, 0.001), (0.77, -2.5e-3, 1e6)])
+def test_an_absurd_known_solution_ends_the_solve_unconverged_at_once(guess):
+    """A lift of 1000 m/s^2 loops above the atmosphere (`_loop`), -1000 m/s^2 dives
+    (`_EnergyFloor`); a 1 ms or a 1e6 s pass is no start either: the solve says so within a few
+    integrations instead of flying them for minutes (the FMU then stops the run with an error)."""
+    sol = predictive.solve_from_known(NOMINAL_ENTRY, EXIT, K_AFE, predictive.KnownSolution(NOMINAL_ENTRY, K_AFE, guess))
+    assert not sol.converged and sol.iterations <= 20
+
+
 def test_a_flight_that_can_no_longer_reach_the_exit_speed_stops_at_the_energy_floor():
     """A hard dive (u = -5 m/s^2) falls below the energy of the exit point at half its speed."""
     c = AotvConstants.si(K_AFE)
@@ -79,10 +88,11 @@ def test_a_flight_that_can_no_longer_reach_the_exit_speed_stops_at_the_energy_fl
 
 
 def test_the_seed_laws_start_from_the_table_8_1_fits_by_default():
-    """tf_nom = 0, the FMUs' default, keeps the seed-000 solve (no known solution)."""
-    slave = SimpleNamespace(tf_nom=0.0)
+    """start_from_nominal = 0, the FMUs' default, keeps the seed-000 solve (no known solution)."""
+    slave = SimpleNamespace(start_from_nominal=0, tf_nom=300.0)
     assert guidance_slave.known_solution(slave, K_AFE) is None
-    slave = SimpleNamespace(h0_nom=1.0, v0_nom=2.0, gamma0_nom=3.0, a_nom=4.0, b_nom=5.0, tf_nom=6.0)
+    slave = SimpleNamespace(start_from_nominal=1, h0_nom=1.0, v0_nom=2.0, gamma0_nom=3.0, a_nom=4.0, b_nom=5.0,
+                            tf_nom=6.0)
     assert guidance_slave.known_solution(slave, K_AFE) == predictive.KnownSolution((1.0, 2.0, 3.0), K_AFE,
                                                                                   (4.0, 5.0, 6.0))
     slave.K_nom = 7.0
