@@ -48,12 +48,15 @@ RUNTIME_PATTERNS = ("*.py", "*.csv")
 """Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
+TOKEN_FILE = "resources/aotv_cosim_guid.txt"
+"""Archive member holding the GUID (FMI 2.0) or instantiationToken (FMI 3.0) the FMU was built with,
+one line: the lean wrapper refuses to instantiate with another (aotv_cosim/fmu/fmi_core.c)."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
-BUILD_FORMAT = ("5: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
-                "under a name of its own")
+BUILD_FORMAT = ("6: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
+                "under a name of its own, GUID in resources")
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -334,6 +337,7 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
     members = isolate(members, raw.stem, digest)
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
+    members[TOKEN_FILE] = (ElementTree.fromstring(members["modelDescription.xml"]).get("guid") + "\n").encode()
     fmu_native.patch_linux_binary(members, raw.stem)
     members[BUILD_INFO] = (digest + "\n").encode()
     write_reproducible_zip(out, members)
