@@ -112,12 +112,12 @@ EXPORT fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName, fmi3Str
     c->core.add_time = 1;
     int failed = core_init(&c->core, instanceName, resourcePath, visible, loggingOn) < 0;
     if (!failed && eventModeUsed) {
-        core_emit(&c->core, fmi3Error, NULL, "fmi3InstantiateCoSimulation refused: eventModeUsed, but this FMU "
+        core_emitf(&c->core, fmi3Error, "fmi3InstantiateCoSimulation refused: eventModeUsed, but this FMU "
                   "has no event mode (hasEventMode=\"false\")");
         failed = 1;
     }
     if (!failed && nRequiredIntermediateVariables > 0) {
-        core_emit(&c->core, fmi3Error, NULL, "fmi3InstantiateCoSimulation refused: requiredIntermediateVariables "
+        core_emitf(&c->core, fmi3Error, "fmi3InstantiateCoSimulation refused: requiredIntermediateVariables "
                   "given, but no variable of this FMU has intermediateUpdate=\"true\"");
         failed = 1;
     }
@@ -137,7 +137,7 @@ static void refuse_instance(fmi3InstanceEnvironment environment, fmi3LogMessageC
     char message[160];
     snprintf(message, sizeof message, "%s refused: this FMU supports co-simulation only", interface);
     if (logMessage != NULL)
-        logMessage(environment, fmi3Error, NULL, message);
+        logMessage(environment, fmi3Error, "logStatusError", message);
 }
 
 EXPORT fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String instantiationToken,
@@ -244,7 +244,7 @@ static int scalars_only(fmi3Instance c, const char *what, size_t nvr, size_t nVa
     {                                                                                                        \
         if (scalars_only(c, "fmi3Get" #Name, nvr, nValues) < 0)                                              \
             return fmi3Error;                                                                                \
-        return (fmi3Status)core_get(c, slot, accepted, "[get" #Name "]", vr, nvr, values, convert);          \
+        return (fmi3Status)core_get(c, slot, accepted, "fmi3Get" #Name, vr, nvr, values, convert);          \
     }
 #define SETTER(Name, CType, slot, accepted, convert)                                                       \
     EXPORT fmi3Status fmi3Set##Name(fmi3Instance c, const fmi3ValueReference vr[], size_t nvr,              \
@@ -252,7 +252,7 @@ static int scalars_only(fmi3Instance c, const char *what, size_t nvr, size_t nVa
     {                                                                                                        \
         if (scalars_only(c, "fmi3Set" #Name, nvr, nValues) < 0)                                              \
             return fmi3Error;                                                                                \
-        return (fmi3Status)core_set(c, slot, accepted, "[set" #Name "]", vr, nvr, values, convert);          \
+        return (fmi3Status)core_set(c, slot, accepted, "fmi3Set" #Name, vr, nvr, values, convert);          \
     }
 
 GETTER(Float64, fmi3Float64, GET_FLOAT64, FLOAT64_GET, float64_from)
@@ -272,7 +272,7 @@ EXPORT fmi3Status fmi3GetString(fmi3Instance c, const fmi3ValueReference vr[], s
 {
     if (scalars_only(c, "fmi3GetString", nvr, nValues) < 0)
         return fmi3Error;
-    return (fmi3Status)core_get_strings(c, GET_STRING, "[getString]", vr, nvr, values);
+    return (fmi3Status)core_get_strings(c, GET_STRING, "fmi3GetString", vr, nvr, values);
 }
 
 /* Types no variable of these FMUs has: an empty request is OK, any value reference refused. */

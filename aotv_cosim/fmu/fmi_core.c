@@ -104,14 +104,17 @@ void core_emit(const Instance *c, int status, const char *category, const char *
         c->emit(c, status, category, message);
 }
 
+/* A message of the wrapper's own (not the slave's), in the log category of its status. */
 void core_emitf(const Instance *c, int status, const char *format, ...)
 {
+    static const char *const CATEGORIES[] = {"logAll", "logStatusWarning", "logStatusDiscard", "logStatusError",
+                                             "logStatusFatal"};
     char message[1024];
     va_list args;
     va_start(args, format);
     vsnprintf(message, sizeof message, format, args);
     va_end(args);
-    core_emit(c, status, NULL, message);
+    core_emit(c, status, CATEGORIES[status >= ST_OK && status <= ST_FATAL ? status : ST_FATAL], message);
 }
 
 static char *copy_string(const char *text)
