@@ -11,7 +11,7 @@ A pythonfmu3 class is built by pythonfmu3, its description completed
 (`fmi3_description.complete`), its binary the same lean wrapper. Either way:
 
 - full-precision start values, read from the slave itself in a child process that imports the
-  FMU's bundled module as a host would (`exact_starts`);
+  FMU's bundled module as a host would (`read_slave`);
 - only the ``x86_64-linux`` binary, built here and patched to load in C hosts
   (`aotv_cosim.fmu.native`): the lean wrapper is compiled on the building machine, so FMI 3.0
   export needs gcc, patchelf, the Python headers and a shared libpython (`unavailable` says what
@@ -71,12 +71,15 @@ def plain(value):
         return int(value)
     return float(value)
 
-print(json.dumps({vr: plain(slave.vars[vr].getter()) for vr in wanted}))
+described = next((c.__dict__["description"] for c in cls.__mro__ if isinstance(c.__dict__.get("description"), str)),
+                 None)
+print(json.dumps({"starts": {vr: plain(slave.vars[vr].getter()) for vr in wanted}, "description": described}))
 sys.stdout.flush()
 os._exit(0)
 """
-"""Run in a child process on an FMU's extracted resources: {value reference: start value} as JSON
-(json writes floats with repr: they read back to the same double)."""
+"""Run in a child process on an FMU's extracted resources: as JSON, {value reference: start value}
+(json writes floats with repr: they read back to the same double) and the description the class
+states in its body (pythonfmu3 sets the instance's to None)."""
 
 
 def source_kind(source: Path) -> str:
@@ -182,10 +185,10 @@ def _members(source: Path, kind: str, tmp: Path, digest: str) -> dict:
     if kind == "pythonfmu3":
         members = _isolate_pythonfmu3(members, build.runtime_package(digest))
     xml = members["modelDescription.xml"]
-    starts = exact_starts(members, fmi3_description.start_references(xml), source, tmp)
+    starts, description = read_slave(members, fmi3_description.start_references(xml), source, tmp)
     try:
         if kind == "pythonfmu3":
-            root = fmi3_description.complete(xml, starts, can_get_and_set_state=False)
+            root = fmi3_description.complete(xml, starts, can_get_and_set_state=False, description=description)
             _refuse_unsupported(root, source)
         else:
             root = fmi3_description.from_fmi2(xml, starts)
@@ -241,11 +244,10 @@ def _isolate_pythonfmu3(members: dict, package: str) -> dict:
     return out
 
 
-def exact_starts(members: dict, references: list, source: Path, tmp: Path) -> dict:
-    """{value reference: start value} of `references`, read from the slave the FMU's bundled module
-    constructs, in a child process (`EXACT_STARTS`) on the FMU's resources extracted under `tmp`."""
-    if not references:
-        return {}
+def read_slave(members: dict, references: list, source: Path, tmp: Path) -> tuple:
+    """({value reference: start value} of `references`, the class's description or None), read from
+    the slave the FMU's bundled module constructs, in a child process (`EXACT_STARTS`) on the FMU's
+    resources extracted under `tmp`."""
     folder = tmp / "starts"
     for member, data in members.items():
         if member.startswith("resources/"):
@@ -261,7 +263,8 @@ def exact_starts(members: dict, references: list, source: Path, tmp: Path) -> di
         last = (done.stderr.strip().splitlines() or ["no output"])[-1]
         raise _source_error(source)(f"constructing the slave from the FMU failed: {last}", file=str(source),
                                     fix="run `aotv-cosim --debug build-fmus` and fix the class")
-    return {int(vr): value for vr, value in json.loads(done.stdout.strip().splitlines()[-1]).items()}
+    found = json.loads(done.stdout.strip().splitlines()[-1])
+    return {int(vr): value for vr, value in found["starts"].items()}, found["description"]
 
 
 def _refuse_unsupported(root, source: Path) -> None:

@@ -20,8 +20,9 @@ and default experiment, in FMI 3.0's form:
 
 A pythonfmu3 class writes an FMI 3.0 description itself; `complete` adds what it leaves out:
 the independent variable, the capability flags above (pythonfmu3 0.3.4 writes
-canHandleVariableCommunicationStepSize from a leftover loop variable), full-precision starts and
-the UnitDefinitions of the units its variables name.
+canHandleVariableCommunicationStepSize from a leftover loop variable), full-precision starts, the
+UnitDefinitions of the units its variables name and the class's description (pythonfmu3 sets the
+instance's to None).
 
 `finish` drops the generation date and sets the instantiation token, derived from the sources
 and the XML as the FMI 2.0 build derives its GUID.
@@ -89,11 +90,13 @@ def from_fmi2(xml: bytes, starts: dict) -> Element:
     return root
 
 
-def complete(xml: bytes, starts: dict, can_get_and_set_state: bool) -> Element:
-    """A pythonfmu3 class's FMI 3.0 modelDescription `xml` completed (module docstring): root
-    element, instantiationToken empty."""
+def complete(xml: bytes, starts: dict, can_get_and_set_state: bool, description=None) -> Element:
+    """A pythonfmu3 class's FMI 3.0 modelDescription `xml` completed (module docstring), with the
+    class's `description` where it has none: root element, instantiationToken empty."""
     root = ElementTree.fromstring(xml)
     root.attrib.pop("generationDateAndTime", None)
+    if description and not root.get("description"):
+        root.set("description", description)
     root.set("instantiationToken", "")
     cs = root.find("CoSimulation")
     flags = _co_simulation(cs.get, "true" if can_get_and_set_state else "false", "false")

@@ -56,8 +56,10 @@ ENTRY_FILES = {2: "fmi2_lean.c", 3: "fmi3_lean.c"}
 """The entry points of the lean wrapper of each FMI version (in SOURCE_DIR)."""
 BINARY_FOLDERS = {2: "binaries/linux64", 3: "binaries/x86_64-linux"}
 """Where each FMI version puts the Linux x86-64 binary in the archive."""
-LEAN_FLAGS = ("-shared", "-fPIC", "-O2", "-DNDEBUG", "-fvisibility=hidden", "-Wl,-z,nodelete")
-"""gcc options of the lean wrapper (with the Python headers, the source's folder mapped to '.')."""
+LEAN_FLAGS = ("-shared", "-fPIC", "-O2", "-flto", "-DNDEBUG", "-fvisibility=hidden", "-Wl,-z,nodelete")
+"""gcc options of the lean wrapper (with the Python headers, the source's folder mapped to '.').
+-flto inlines the core into the entry points across files: without it an FMI 2.0 set+get+doStep
+cycle cost 1-2 % more than the single-file wrapper it replaced (measured interleaved in one process)."""
 WRAPPERS = ("lean", "stock")
 WRAPPER_VARIABLE = "AOTV_COSIM_WRAPPER"
 PROMOTE_SOURCE = """\
