@@ -10,7 +10,7 @@ and in this master.
 - this master: the seed-000 system built from FMI 3.0 FMUs (through a wiring and through the FMI
   3.0 archive) gives the FMI 2.0 system's rows to the bit, in both FMI call paths. Skipped while
   the master refuses FMI 3.0 FMUs (FMI 3.0 import is another branch's work; the skip lifts itself
-  once `model.fmu_file.read_fmu` accepts them).
+  once `model.fmu_file.read_fmu` accepts them); so is a wiring naming a plain pythonfmu3 class.
 """
 
 import csv
@@ -30,6 +30,7 @@ from aotv_cosim.output.runner import simulate
 from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.ssp import ecos_run
 from aotv_cosim.ssp.export import export_ssp
+from tests.helper_fmus.pythonfmu3_gain import write_gain3
 from tests.helpers import NOMINAL
 from tests.interop.test_thirdparty import (
     ECOS_RTOL,
@@ -151,3 +152,19 @@ def test_seed000_system_of_fmi3_fmus_equals_the_fmi2_system_in_this_master(fmi_c
         for column in kept:
             got, expected = run.rows[:, run.columns.index(column)], reference.rows[:, reference.columns.index(column)]
             assert np.array_equal(got, expected, equal_nan=True), (key, column)
+
+
+def test_plain_pythonfmu3_class_in_a_wiring_runs_in_this_master(tmp_path):
+    """A wiring naming a pythonfmu3 source builds it as FMI 3.0 (`built_fmu`) and runs it; skipped
+    while the master refuses FMI 3.0 FMUs."""
+    reason = master_refusal()
+    if reason is not None:
+        pytest.skip(reason)
+    write_gain3(tmp_path)
+    (tmp_path / "wiring.json").write_text(json.dumps(
+        {"components": {"gain": {"fmu": "Gain3.py", "parameters": {"u": 2.0, "k": 0.5}}}, "connections": []}))
+    (tmp_path / "scenario.json").write_text(json.dumps({"system": "wiring.json", "stop": 1.0, "step": 0.1}))
+    run = simulate(load_scenario(tmp_path / "scenario.json"))
+    assert str(run.summary.status) == "completed"
+    final = dict(zip(run.columns, run.rows[-1]))
+    assert final["gain.y"] == 1.0 and final["gain.n"] == 10
