@@ -14,9 +14,11 @@ for the whole process, so with one shared name the first FMU's copy (from a fold
 have deleted since, from other sources) would serve every later one; named apart, any number of
 FMUs of any versions, in any number of systems, share a process. The build then rewrites
 the archive so that the same sources give the same bytes: the modelDescription gets a GUID
-derived from the sources and the generated XML, no generation date, and zip entries are written
-in sorted order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI
-hosts (`fmu_native`). Finally `fmpy validate` must report no problem.
+derived from the sources and the generated XML (also written to `TOKEN_FILE`, which the lean
+wrapper checks at instantiation), no generation date, and zip entries are written in sorted
+order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI hosts
+(`fmu_native`). Finally `fmpy validate` must report no problem. With ``fmi_version=3`` the FMU is
+built as FMI 3.0 instead (`aotv_cosim.fmu.build_fmi3`, also for a pythonfmu3 class).
 """
 
 import ast
