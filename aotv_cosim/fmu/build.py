@@ -14,9 +14,11 @@ for the whole process, so with one shared name the first FMU's copy (from a fold
 have deleted since, from other sources) would serve every later one; named apart, any number of
 FMUs of any versions, in any number of systems, share a process. The build then rewrites
 the archive so that the same sources give the same bytes: the modelDescription gets a GUID
-derived from the sources and the generated XML, no generation date, and zip entries are written
-in sorted order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI
-hosts (`fmu_native`). Finally `fmpy validate` must report no problem.
+derived from the sources and the generated XML (also written to `TOKEN_FILE`, which the lean
+wrapper checks at instantiation), no generation date, and zip entries are written in sorted
+order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI hosts
+(`fmu_native`). Finally `fmpy validate` must report no problem. With ``fmi_version=3`` the FMU is
+built as FMI 3.0 instead (`aotv_cosim.fmu.build_fmi3`, also for a pythonfmu3 class).
 """
 
 import ast
@@ -48,12 +50,15 @@ RUNTIME_PATTERNS = ("*.py", "*.csv")
 """Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
+TOKEN_FILE = "resources/aotv_cosim_guid.txt"
+"""Archive member holding the GUID (FMI 2.0) or instantiationToken (FMI 3.0) the FMU was built with,
+one line: the lean wrapper refuses to instantiate with another (aotv_cosim/fmu/fmi_core.c)."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
-BUILD_FORMAT = ("5: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
-                "under a name of its own")
+BUILD_FORMAT = ("6: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
+                "under a name of its own, GUID in resources")
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -184,10 +189,11 @@ def built_hash(fmu: Path):
         return None
 
 
-def built_fmu(ref) -> Path:
+def built_fmu(ref, fmi_version=None) -> Path:
     """The FMU resolver that builds (`model.fmu_file.FmuResolver`): the up-to-date .fmu of a
     name of fmus_src or of a user's FMU source `ref` (a path ending in .py), built into the cache
-    when missing or stale (`ensure_fmu`). InputError for a name fmus_src has not, naming close ones."""
+    when missing or stale (`ensure_fmu`; `functools.partial(built_fmu, fmi_version=3)` resolves to
+    FMI 3.0 FMUs). InputError for a name fmus_src has not, naming close ones."""
     if not is_source_path(ref):
         names = available_fmus()
         if ref not in names:
@@ -196,16 +202,19 @@ def built_fmu(ref) -> Path:
             raise InputError(f"no FMU named {ref!r} in this package",
                              fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
                                  f"wiring file) or one of {', '.join(names)}")
-    return ensure_fmu(ref)
+    return ensure_fmu(ref, fmi_version=fmi_version)
 
 
-def ensure_fmu(ref, out_dir=None) -> Path:
+def ensure_fmu(ref, out_dir=None, fmi_version=None) -> Path:
     """Path of an up-to-date FMU for fmus_src/<ref>.py, or for the user's source file `ref` (a
     path ending in .py), building it if missing or stale.
 
     Without out_dir the FMU lives in the cache as <name>-<hash16>.fmu; with it, as <name>.fmu
-    (name: the source's file name without .py).
+    (name: the source's file name without .py). fmi_version: 2 or 3 (`aotv_cosim.fmu.build_fmi3`);
+    None builds FMI 2.0, or 3.0 for a pythonfmu3 class.
     """
+    if _fmi3(ref, fmi_version):
+        return _build_fmi3().ensure_fmu(ref, out_dir)
     target, digest = _target(ref, out_dir)
     source = fmu_source(ref)
     name = source.stem
@@ -245,15 +254,28 @@ def _target(ref, out_dir=None):
     return (Path(out_dir) / f"{name}.fmu" if out_dir else cache_dir() / f"{name}-{digest[:16]}.fmu"), digest
 
 
-def needs_build(ref, out_dir=None) -> bool:
-    """True if `ensure_fmu(ref, out_dir)` would build (no FMU, or one from other sources)."""
+def needs_build(ref, out_dir=None, fmi_version=None) -> bool:
+    """True if `ensure_fmu(ref, out_dir, fmi_version)` would build (no FMU, or one from other sources)."""
+    if _fmi3(ref, fmi_version):
+        return _build_fmi3().needs_build(ref, out_dir)
     target, digest = _target(ref, out_dir)
     return not (target.is_file() and built_hash(target) == digest)
 
 
-def build_all(out_dir=None) -> dict:
+def build_all(out_dir=None, fmi_version=2) -> dict:
     """Ensure every FMU of fmus_src is built; returns {name: path}."""
-    return {name: ensure_fmu(name, out_dir) for name in available_fmus()}
+    return {name: ensure_fmu(name, out_dir, fmi_version) for name in available_fmus()}
+
+
+def _build_fmi3():
+    from aotv_cosim.fmu import build_fmi3  # it imports this module
+
+    return build_fmi3
+
+
+def _fmi3(ref, fmi_version) -> bool:
+    """True when `ref` is built as FMI 3.0 (`build_fmi3.resolved_version`)."""
+    return (fmi_version is not None or is_source_path(ref)) and _build_fmi3().resolved_version(ref, fmi_version) == 3
 
 
 def _pythonfmu_build(source: Path, tmp: Path) -> Path:
@@ -334,6 +356,7 @@ def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
         members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
     members = isolate(members, raw.stem, digest)
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
+    members[TOKEN_FILE] = (ElementTree.fromstring(members["modelDescription.xml"]).get("guid") + "\n").encode()
     fmu_native.patch_linux_binary(members, raw.stem)
     members[BUILD_INFO] = (digest + "\n").encode()
     write_reproducible_zip(out, members)
