@@ -333,10 +333,13 @@ def _patched_binary(members: dict, source: Path, found) -> str:
     try:
         fmu_native.patch_linux_binary(members, found.model_identifier)
     except (OSError, subprocess.CalledProcessError) as exc:
-        output = getattr(exc, "stderr", None) or b""
-        said = " ".join(output.decode(errors="replace").split())[-300:] if isinstance(output, bytes) else ""
+        if isinstance(exc, subprocess.CalledProcessError):
+            said = " ".join((exc.stderr or b"").decode(errors="replace").split())[-300:]
+            cause = f"{Path(exc.cmd[0]).name} exited with status {exc.returncode}" + (f": {said}" if said else "")
+        else:
+            cause = str(exc)
         error = BuildError if is_ours(source) else InputError
-        raise error(f"building the FMU's native wrapper failed: {exc}" + (f": {said}" if said else ""),
+        raise error(f"building the FMU's native wrapper failed: {cause}",
                     file=str(source), entry=f"binaries/linux64/{found.model_identifier}.so",
                     fix=f"check the C compiler (gcc) and patchelf, or set {fmu_native.WRAPPER_VARIABLE}=stock "
                         "(pythonfmu's wrapper, no compiler needed)") from None

@@ -303,13 +303,15 @@ def fmu_class(source: Path) -> type:
                           for c in defined)
         raise _SourceProblem(f"defines {len(defined)} FMU classes: {lines}", None,
                              "keep one FMU class per file (a shared base may stay, made abstract)")
-    taken = _runtime_class(module)
-    if taken is not defined[0]:
-        raise _SourceProblem(f"the FMU would instantiate {taken.__name__} (from {taken.__module__}), not "
-                             f"{defined[0].__name__}: it is deeper below Fmi2Slave", None,
-                             f"import the module of {taken.__name__}, not the class (`import aotv_cosim.laws "
-                             "as laws`), or derive from it")
-    return defined[0]
+    taken, law = _runtime_class(module), defined[0]
+    if taken is not law:
+        fix = (f"derive {law.__name__} from {taken.__name__}, or move {taken.__name__} to another module"
+               if taken.__module__ == module.__name__ else
+               f"import the module instead of the class (`import aotv_cosim.laws as laws`, then "
+               f"`laws.{taken.__name__}`), or derive {law.__name__} from it")
+        raise _SourceProblem(f"the FMU would instantiate {taken.__name__}, not {law.__name__}: the FMU's runtime "
+                             "takes the first class of the module deepest below Fmi2Slave", None, fix)
+    return law
 
 
 def _class_lines(source: Path) -> dict:
