@@ -72,7 +72,7 @@ def inspect_source(source: Path, ours: bool = False) -> SourceClass:
             found = json.loads(report.read_text())
             if "error" not in found:
                 return SourceClass(**found)
-            raise error(found["error"], file=str(source), entry=_line(found.get("line")), fix=found["fix"])
+            raise error(found["error"], file=str(source), entry=found["entry"], fix=found["fix"])
         output = log.read_text(errors="replace") if log.is_file() else ""
     raise error(_ended(status, timed_out, output), file=str(source), entry=_line(_dumped_line(output, source)),
                 fix="fix the source; `python " + source.name + "` runs it alone")
@@ -153,7 +153,7 @@ def main(argv=None) -> None:
     try:
         found = _inspect(source)
     except _SourceProblem as problem:
-        found = {"error": problem.cause, "line": problem.line, "fix": problem.fix}
+        found = {"error": problem.cause, "entry": problem.entry, "fix": problem.fix}
     faulthandler.cancel_dump_traceback_later()
     _write(report, found)
     for stream in (sys.stdout, sys.stderr):
@@ -185,16 +185,19 @@ def _report_os_exit(source: Path, report: Path):
     def reporting_exit(status):
         line = _line_of(traceback.extract_stack(sys._getframe(1)), source)
         _write(report, {"error": f"it called os._exit({status!r}) while being imported or instantiated",
-                        "line": line, "fix": "an FMU source must not end the process; remove the call"})
+                        "entry": _line(line), "fix": "an FMU source must not end the process; remove the call"})
         real_exit(status)
     os._exit = reporting_exit
     return real_exit
 
 
 class _SourceProblem(Exception):
-    def __init__(self, cause, line=None, fix="fix the source"):
+    """What is wrong with the source: its cause, where (line N, or `entry` when no line is
+    known: "(top level)", "(whole file)"), and the fix."""
+
+    def __init__(self, cause, line=None, fix="fix the source", entry=None):
         super().__init__(cause)
-        self.cause, self.line, self.fix = cause, line, fix
+        self.cause, self.entry, self.fix = cause, _line(line) or entry, fix
 
 
 def _line_of(frames, source: Path):
@@ -206,14 +209,16 @@ def _line_of(frames, source: Path):
 def _raised(what: str, exc: BaseException, source: Path) -> _SourceProblem:
     """The problem of an exception (SystemExit included) raised by `source` while `what`."""
     line = _line_of(traceback.extract_tb(exc.__traceback__), source)
-    if isinstance(exc, SyntaxError) and Path(exc.filename or "") == source:
+    whole = None
+    if isinstance(exc, SyntaxError) and Path(exc.filename or source) == source:
         line = exc.lineno  # raised while compiling: the line is on the error, not in a frame
+        whole = "(whole file)"
     if isinstance(exc, SystemExit):
         return _SourceProblem(f"{what} called sys.exit({exc.code!r})", line,
                               "an FMU source must not end the process; remove the call")
     text = " ".join(f"{type(exc).__name__}: {exc}".split())
     return _SourceProblem(f"{what} raised {text}", line,
-                          f"fix the source (run `python {source.name}` to see the traceback)")
+                          f"fix the source (run `python {source.name}` to see the traceback)", whole)
 
 
 def decode_source(data: bytes):
@@ -235,12 +240,21 @@ def _check_encoding(source: Path) -> None:
            "(`# -*- coding: latin-1 -*-`, PEP 263)")
     try:
         decode_source(data)
-    except SyntaxError as exc:
-        raise _SourceProblem(f"SyntaxError: {exc.msg}", exc.lineno, fix) from None
+    except SyntaxError as exc:  # tokenize's: an unknown or conflicting declaration, or line 1 not UTF-8
+        if "unknown encoding" not in exc.msg:
+            try:
+                data.decode("utf-8")
+            except UnicodeDecodeError as bad:
+                raise _undecodable(data, bad, fix) from None
+        raise _SourceProblem(f"SyntaxError: {exc.msg}", exc.lineno, fix, "(whole file)") from None
     except UnicodeDecodeError as exc:
-        raise _SourceProblem(f"SyntaxError: byte 0x{data[exc.start]:02x} is not valid {exc.encoding}, the file's "
-                             "encoding (UTF-8 unless a coding line declares another)",
-                             data[:exc.start].count(b"\n") + 1, fix) from None
+        raise _undecodable(data, exc, fix) from None
+
+
+def _undecodable(data: bytes, exc: UnicodeDecodeError, fix: str) -> _SourceProblem:
+    return _SourceProblem(f"SyntaxError: byte 0x{data[exc.start]:02x} is not valid {exc.encoding}, the file's "
+                          "encoding (UTF-8 unless a coding line declares another)",
+                          data[:exc.start].count(b"\n") + 1, fix)
 
 
 def _inspect(source: Path) -> dict:
@@ -294,15 +308,15 @@ def fmu_class(source: Path) -> type:
     defined = [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, Fmi2Slave)
                and c.__module__ == module.__name__ and not inspect.isabstract(c)]
     if not defined:
-        raise _SourceProblem("defines no concrete FMU class", None,
-                             "define one subclass of aotv_cosim.laws.AotvSlave (or of pythonfmu.Fmi2Slave) with "
+        raise _SourceProblem("defines no concrete FMU class", None, entry="(top level)",
+                             fix="define one subclass of aotv_cosim.laws.AotvSlave (or of pythonfmu.Fmi2Slave) with "
                              "do_step and every abstract method")
     if len(defined) > 1:
         at = _class_lines(source)
         lines = ", ".join(f"{c.__name__} (line {at[c.__name__]})" if c.__name__ in at else c.__name__
                           for c in defined)
         raise _SourceProblem(f"defines {len(defined)} FMU classes: {lines}", None,
-                             "keep one FMU class per file (a shared base may stay, made abstract)")
+                             "keep one FMU class per file (a shared base may stay, made abstract)", "(top level)")
     taken, law = _runtime_class(module), defined[0]
     if taken is not law:
         fix = (f"derive {law.__name__} from {taken.__name__}, or move {taken.__name__} to another module"
@@ -310,7 +324,7 @@ def fmu_class(source: Path) -> type:
                f"import the module instead of the class (`import aotv_cosim.laws as laws`, then "
                f"`laws.{taken.__name__}`), or derive {law.__name__} from it")
         raise _SourceProblem(f"the FMU would instantiate {taken.__name__}, not {law.__name__}: the FMU's runtime "
-                             "takes the first class of the module deepest below Fmi2Slave", None, fix)
+                             "takes the first class of the module deepest below Fmi2Slave", None, fix, "(top level)")
     return law
 
 
