@@ -11,7 +11,7 @@ of the call), a crash (the signal, and the line from the child's fault dump), an
 running after `IMPORT_TIME_LIMIT` seconds (the line it was stuck at, from the same dump; it and
 every process it started are killed). The child writes no bytecode (no ``__pycache__`` beside
 the source), reads no standard input, and writes its output to a file of at most `OUTPUT_LIMIT`
-bytes whose tail is quoted when it fails.
+bytes whose tail is quoted when it ends without a report.
 
 The rules the class is held to (one FMU class per file, the one the FMU's runtime will
 instantiate) are checked in the child (`fmu_class`).
@@ -40,8 +40,9 @@ GRACE = 5.0
 """Seconds the parent waits beyond IMPORT_TIME_LIMIT for the child's own fault dump and exit
 before killing it."""
 OUTPUT_LIMIT = 16 * 2**20
-"""Bytes the child may write to its output file (its stdout and stderr): a source that prints
-without end is stopped by the operating system (RLIMIT_FSIZE, signal SIGXFSZ)."""
+"""Bytes the child may write to any file, its output file (stdout and stderr) among them: a
+source that prints without end gets OSError (EFBIG, RLIMIT_FSIZE) at the write past it, reported
+with its line like any exception."""
 _QUOTED = 400
 """Characters of the child's output quoted in an error when it ended without a report."""
 
@@ -103,11 +104,13 @@ def _run_child(source: Path, report: Path, log: Path):
 
 
 def _kill_group(child) -> None:
-    """Kill the child's process group (the child and what it started) and reap the child."""
-    try:
-        os.killpg(child.pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass
+    """Kill the child's process group (the child and what it started; the child alone where
+    there are no process groups) and reap the child."""
+    with contextlib.suppress(ProcessLookupError, PermissionError):
+        if hasattr(os, "killpg"):
+            os.killpg(child.pid, signal.SIGKILL)
+        else:
+            child.kill()
     child.wait()
 
 
@@ -117,10 +120,11 @@ def _ended(status, timed_out: bool, output: str) -> str:
         return (f"importing it, instantiating its class and writing its modelDescription took more than "
                 f"{IMPORT_TIME_LIMIT:g} s (an endless loop?); the child process was killed")
     if status is not None and status < 0:
-        name = signal.Signals(-status).name if -status in signal.Signals._value2member_map_ else str(-status)
+        try:
+            name = signal.Signals(-status).name
+        except ValueError:
+            name = f"signal {-status}"
         cause = f"the child process importing it was killed by {name}"
-        if name == "SIGXFSZ":
-            cause += f" (it wrote more than {OUTPUT_LIMIT // 2**20} MiB of output)"
     else:
         cause = f"the child process importing it ended with status {status} before it reported"
     own = re.split(r"\n(?:Current thread|Thread) 0x", output)[0]  # without the fault dump's frames
@@ -168,7 +172,9 @@ def _limit_output() -> None:
         import resource
     except ImportError:  # not on Windows
         return
-    resource.setrlimit(resource.RLIMIT_FSIZE, (OUTPUT_LIMIT, OUTPUT_LIMIT))
+    hard = resource.getrlimit(resource.RLIMIT_FSIZE)[1]
+    limit = OUTPUT_LIMIT if hard == resource.RLIM_INFINITY else min(OUTPUT_LIMIT, hard)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (limit, hard))
 
 
 def _write(report: Path, found: dict) -> None:

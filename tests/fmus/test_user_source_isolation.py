@@ -84,8 +84,10 @@ def test_the_child_and_what_it_started_are_killed(tmp_path, short_limit):
     ("import sys\nsys.exit('bye')\n", "importing it called sys.exit('bye')"),
     ("import os\nos._exit(3)\n", "it called os._exit(3)"),
     ("import nowhere_to_be_found\n", "importing it raised ModuleNotFoundError: No module named 'nowhere_to_be_found'"),
+    pytest.param("while True:\n    print('x' * 1000)\n", "importing it raised OSError: [Errno 27] File too large",
+                 marks=pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")),
 ])
-def test_an_exit_or_an_import_error_is_refused_with_its_line(tmp_path, code, said):
+def test_an_exit_an_import_error_or_endless_output_is_refused_with_its_line(tmp_path, code, said):
     source = law(tmp_path, "Quitter", before=code)
     one_line(["build-fmus", source], str(source), f"line {line_of(source, code.splitlines()[-1])}: ", said)
 
