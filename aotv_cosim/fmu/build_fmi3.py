@@ -158,14 +158,15 @@ def ensure_fmu(ref, out_dir=None) -> Path:
                                             "libpython and its headers, or build FMI 2.0 FMUs")
     source = build.fmu_source(ref)
     kind = source_kind(source)
-    if build.is_source_path(ref) and kind == "pythonfmu":
-        build.check_source(source)  # a broken user source is one error line, before any progress is shown
+    # a pythonfmu class is inspected in a child process (`build.check_source`); a broken source is one
+    # error line, before any progress is shown
+    found = build.check_source(source) if kind == "pythonfmu" else None
     for hook in build.BUILD_HOOKS:
         hook(source.stem, "start")
     path.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="aotv_build3_") as tmp:
         staged = Path(tmp) / "final.fmu"
-        build.write_reproducible_zip(staged, _members(source, kind, Path(tmp), digest))
+        build.write_reproducible_zip(staged, _members(source, kind, found, Path(tmp), digest))
         _validate(staged, source)
         os.replace(staged, path) if staged.stat().st_dev == path.parent.stat().st_dev else shutil.move(staged, path)
     for hook in build.BUILD_HOOKS:
@@ -173,13 +174,16 @@ def ensure_fmu(ref, out_dir=None) -> Path:
     return path
 
 
-def _members(source: Path, kind: str, tmp: Path, digest: str) -> dict:
-    """{archive member: bytes} of the FMI 3.0 FMU of `source`."""
+def _members(source: Path, kind: str, found, tmp: Path, digest: str) -> dict:
+    """{archive member: bytes} of the FMI 3.0 FMU of `source` (`found`: its `build.check_source`
+    for a pythonfmu class, None for a pythonfmu3 one)."""
     name = source.stem
-    raw = _pythonfmu3_build(source, tmp) if kind == "pythonfmu3" else build._pythonfmu_build(source, tmp)
-    build._forget_module(source)
-    with zipfile.ZipFile(raw) as archive:
-        members = {info.filename: archive.read(info) for info in archive.infolist() if not info.is_dir()}
+    if kind == "pythonfmu3":
+        with zipfile.ZipFile(_pythonfmu3_build(source, tmp)) as archive:
+            members = {info.filename: archive.read(info) for info in archive.infolist() if not info.is_dir()}
+    else:
+        members = build._pythonfmu_members(source, found)
+        build._contract_hook(members, source, found)
     members = {m: data for m, data in members.items() if not m.startswith(("binaries/", "sources/"))}
     members = build.isolate(members, name, digest)
     if kind == "pythonfmu3":
