@@ -254,11 +254,11 @@ def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, pro
             summaries[law] = {"scenario": str(path), "wall_time_s": record["wall_time_s"], "reused": False}
             if record["status"] == Status.COMPLETED and len(rows) == runs:
                 _store(key, rows, list(rows[0]), record)
-        cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits)})
+        cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits, scenario.outcome.vehicle)})
         names = names or ["law"] + list(rows[0])
         units = units or {"law": "", **record["units"]}
         every_row += [{"law": law, **r} for r in rows]
-    band = next(iter(flown.values()))[1].outcome.get("band", 10e3)
+    band = next(iter(flown.values()))[1].outcome.band
     return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band),
                           limits_of_runs.columns(limits))
 

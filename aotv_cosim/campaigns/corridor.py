@@ -46,8 +46,7 @@ def corridor_scenarios(scenario_path, out_dir, lift_to_drag: float) -> dict:
     if scenario.outcome is None:
         raise InputError("the scenario does not classify its runs", file=scenario_path, entry="montecarlo",
                          fix='add "montecarlo": {"outcome": {}} (the band the corridor is bounded by)')
-    settings = scenario.outcome
-    vehicle, actuator = settings.get("vehicle", "vehicle"), settings.get("actuator", "actuator")
+    vehicle, actuator = scenario.outcome.vehicle, scenario.outcome.actuator
     doc = strict_json(scenario_path.read_text(encoding="utf-8"))
     wiring_path = scenario.system.path
     wiring = strict_json(Path(wiring_path).read_text(encoding="utf-8"))
@@ -100,8 +99,8 @@ def run_corridor(scenario_path, out_dir, lift_to_drag: float, tolerance: float =
     out = Path(out_dir)
     paths = corridor_scenarios(scenario_path, out, lift_to_drag)
     scenario = load_scenario(scenario_path)
-    vehicle = scenario.outcome.get("vehicle", "vehicle")
-    band = float(scenario.outcome.get("band", 10e3))
+    vehicle = scenario.outcome.vehicle
+    band = scenario.outcome.band
     signal = f"{vehicle}.gamma0"
     nominal = float(scenario.system.components[vehicle].parameters.get(
         "gamma0", scenario.system.variable(signal).start))

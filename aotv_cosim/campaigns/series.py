@@ -38,7 +38,7 @@ def write_series(out: Path, series: dict, scenario, ref, make_plots) -> list:
     tmp = path.with_name(path.name + ".part")
     pq.write_table(pa.table(columns, schema=schema), tmp)
     tmp.replace(path)
-    vehicle = (scenario.outcome or {}).get("vehicle", "vehicle")
+    vehicle = scenario.outcome.vehicle if scenario.outcome is not None else "vehicle"
     if not make_plots or not {f"{vehicle}.h", f"{vehicle}.v"} <= set(signals):
         return []
     nominal = Runner(ref, keep_series=True).run(-1, {}).get("series", {})
