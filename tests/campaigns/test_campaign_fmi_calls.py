@@ -34,7 +34,7 @@ def test_the_command_lines_take_fmi_calls(tmp_path):
 def test_an_unknown_call_path_is_refused_before_any_run(tmp_path):
     from aotv_cosim.errors import InputError
 
-    with pytest.raises(InputError, match="fmi_calls"):
+    with pytest.raises(InputError, match="--fmi-calls: unknown value 'fast'"):
         api.montecarlo(PASS, 2, out=tmp_path / "mc", fmi_calls="fast")
     assert not (tmp_path / "mc").exists()
     status, _text = invoke("montecarlo", PASS, "--runs", 2, "--fmi-calls", "fast")
