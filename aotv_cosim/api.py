@@ -189,7 +189,7 @@ def sweep(scenario: PathLike, grids: Union[Mapping[str, Iterable[float]], Iterab
 
 
 def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.0,
-             bracket: Sequence[float] = (-0.08, -0.002), out: Optional[PathLike] = None, workers: Optional[int] = 1,
+             bracket: Sequence[float] = (-0.08, -0.002), out: Optional[PathLike] = None, workers: Optional[int] = None,
              scheduler=None, step_timeout: Optional[float] = None, max_rss: Optional[float] = DEFAULT_MAX_RSS_MIB,
              fmi_calls: Optional[str] = None) -> dict:
     """The theoretical entry corridor of a scenario whose runs are classified (`aotv-cosim corridor`).
@@ -201,8 +201,8 @@ def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.
             capture band's edge (finite, > 0).
         bracket: the entry flight-path angles searched (steep, shallow), rad, both in (-pi/2, 0).
         out: a folder for corridor.json, corridor.png and the two scenarios flown, or None.
-        workers: local processes (2 search both bounds side by side); scheduler, step_timeout,
-            max_rss, fmi_calls: as for `montecarlo`.
+        workers: local processes (default one per usable core; 2 search both bounds side by
+            side, more are not used); scheduler, step_timeout, max_rss, fmi_calls: as for `montecarlo`.
 
     Returns:
         a dict: the entry flight-path angles (rad) bounding capture at full lift up ("steep")

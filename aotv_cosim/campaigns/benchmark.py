@@ -295,7 +295,8 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
         with interrupts.deferred(), claimed(out, BENCHMARK_OUTPUTS):
             flown = law_scenarios(set_scenarios, options.laws, out)  # every law checked before any run
             limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
-            check_fits(2 * options.runs * len(flown), len(columns(set_scenarios[0][1])) + 1, options.scenario_set)
+            # every law's rows are kept for the scorecard, beside those of the law being flown
+            check_fits(options.runs * (len(flown) + 1), len(columns(set_scenarios[0][1])) + 1, options.scenario_set)
             return _benchmark(options, out, flown, limits, echo)
     except InputError:
         if created:  # refused before any run: leave no folder behind

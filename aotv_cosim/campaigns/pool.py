@@ -186,10 +186,11 @@ class WorkerPool:
 
     def _dispatch(self):
         """Send queued tasks to the workers holding fewer than DEPTH, the least loaded first,
-        starting workers up to `size` (a worker found dead meanwhile is given up: its tasks go back
-        to the queue, and `_collect` says why if it was running one)."""
+        starting workers up to `size` while none is idle (a worker found dead meanwhile is given up:
+        its tasks go back to the queue, and `_collect` says why if it was running one)."""
         while self.queue:
-            if len(self.workers) < self.size:
+            idle = [w for w in self.workers if not w.tasks]
+            if not idle and len(self.workers) < self.size:  # a new worker only when none is idle
                 self.workers.append(_Worker(self.context, *self.start_args))
             worker = min(self.workers, key=lambda w: len(w.tasks))
             if len(worker.tasks) >= DEPTH:

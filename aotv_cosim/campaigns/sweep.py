@@ -24,7 +24,7 @@ from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.simulation import interrupts
 from aotv_cosim.options import SweepOptions
 from aotv_cosim.output.outdir import claimed
-from aotv_cosim.simulation.master import Interrupted
+from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.output.run_files import write_json_atomically
 from aotv_cosim.status import Status
 
@@ -62,7 +62,11 @@ def run_sweep(options: SweepOptions) -> dict:
         _write_csv(out / "sweep.csv", rows, keep, units)
         result = {"status": status.value, "scenario": str(scenario_path), "parameters": parameters,
                   "grids": {name: list(values) for name, values in options.grids}, "runs": len(rows),
-                  "points": len(points), "wall_time_s": wall, "units": units, "columns": keep}
+                  "points": len(points), "wall_time_s": wall,
+                  "backend": "local" if options.scheduler is None else "dask", "workers": options.workers,
+                  "fmi_calls": options.fmi_calls or FMI_CALLS_DEFAULT,
+                  "limits": {"step_timeout_s": options.step_limit(scenario), "max_rss_mib": options.max_rss},
+                  "units": units, "columns": keep}
         from aotv_cosim.campaigns.figures import sweep_plot
 
         result["plots"] = [sweep_plot(out, rows, parameters, units, scenario.outcome)] if rows else []

@@ -20,9 +20,10 @@ from aotv_cosim.errors import InputError
 
 MAX_RUNS = 1_000_000
 """Most runs of one campaign (per law in a benchmark). Every row is kept in memory for the
-statistics and the report (about 5-10 kB each), and 10^6 runs are already hours of a cluster;
-a larger N is a typing error (`benchmark --runs 1000000000` grew to 6 GB before this bound).
-`check_fits` also refuses a smaller N whose rows cannot fit in this machine's memory."""
+statistics and the report (8.5 kB for the 74 values of an aerocapture row), and 10^6 runs are
+already hours of a cluster; a larger N is a typing error (`benchmark --runs 1000000000` grew to
+6 GB before this bound). `check_fits` also refuses a smaller N whose rows cannot fit in this
+machine's memory."""
 MAX_SEED = 2**63 - 1
 """Largest campaign seed (numpy's SeedSequence takes any non-negative integer; this bound keeps
 the seed in a signed 64-bit column of the result files)."""
@@ -34,10 +35,10 @@ MAX_SCHEDULED_WORKERS = 4096
 MAX_POINTS = 100_000
 """Most grid points one sweep flies: above, a typo (an extra zero in N) would start a sweep of
 days and allocate every point up front, so it is refused before any run."""
-ROW_CELL_BYTES = 100
-"""Memory of one value of a campaign row as it is held (a dict entry and its float), bytes:
-measured 7.3 kB for a row of 75 columns of the aerocapture benchmark (sys.getsizeof of the dict
-and its floats)."""
+ROW_CELL_BYTES = 120
+"""Memory of one value of a campaign row as the parent holds it, bytes: a row of the aerocapture
+benchmark (74 values) unpickled from a worker took 8455 bytes (114 a value: the dict's slot, the
+float and the key's own string; tracemalloc over 2000 rows)."""
 
 
 def usable_cores() -> int:
@@ -110,7 +111,8 @@ def count(low: int, high, what: str, fix: str = "") -> Callable:
     def check(value, where: Where):
         top = high() if callable(high) else high
         if not isinstance(value, int) or isinstance(value, bool):
-            raise where.refuse(f"{what} must be an integer, got {_shown(value)}", f"give an integer from {low} to {top}")
+            raise where.refuse(f"{what} must be an integer, got {_shown(value)}",
+                               f"give an integer from {low} to {top}")
         if not low <= value <= top:
             raise where.refuse(f"{what} {value} is outside {low}..{top}", fix or f"give an integer from {low} to {top}")
         return value

@@ -320,7 +320,7 @@ class CorridorOptions(RunsOptions):
     """(steep, shallow) entry flight-path angles searched, rad, -pi/2 < steep < shallow < 0."""
     out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
     """A folder for corridor.json, corridor.png and the two scenarios flown; None: nothing kept."""
-    workers: Optional[int] = option(1, check=workers, entry="--workers")
-    """Local worker processes: the two bounds are searched side by side with 2 (None: every usable
-    core, at most 2 used)."""
+    workers: Optional[int] = option(None, check=workers, entry="--workers")
+    """Local worker processes (None: one per usable core): the two bounds are searched side by side
+    with 2; more are not used."""
 
