@@ -48,10 +48,11 @@ def written(folder) -> set:
     return {line for line in text.splitlines() if line}
 
 
-def _record(folder: Path, names) -> None:
-    """Add `names` to the record of `folder` (written whole via a rename)."""
+def _record(folder: Path, names, always=False) -> None:
+    """Add `names` to the record of `folder` (written whole via a rename; with `always`, written
+    even when it has them all)."""
     known = written(folder)
-    if set(names) <= known:
+    if set(names) <= known and not (always and not (folder / RECORD).is_file()):
         return
     part = folder / (RECORD + ".part")
     part.write_text("".join(f"{name}\n" for name in sorted(known | set(names))), encoding="utf-8")
@@ -141,6 +142,7 @@ def claimed(folder, names=RUN_OUTPUTS, adopt=False):
         before = _listing(folder)
     except OSError as exc:
         raise _refuse(folder, f"cannot list the output folder: {exc.strerror}") from None
+    _check_names(folder, names, before, adopt)  # before the lock: a refused claim leaves nothing
     lock = folder / LOCK
     try:
         fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
@@ -153,12 +155,14 @@ def claimed(folder, names=RUN_OUTPUTS, adopt=False):
             holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "unknown"
             raise _refuse(folder, f"the output folder is in use by another run (pid {holder})",
                           "wait for that run to end or choose another --out") from None
-        _check_names(folder, names, before, adopt)
-        if adopt or _legacy(folder, before):  # resumed, or written before the record: its result files are ours
-            _record(folder, [name for name in before for pattern in names if fnmatch.fnmatch(name, pattern)])
         try:
             os.ftruncate(fd, 0)
             os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+            # the record exists from the claim on, so a folder with a lock and no record is an
+            # earlier version's; resumed, or written by that version, its result files are ours
+            adopted = [name for name in before for pattern in names if fnmatch.fnmatch(name, pattern)] \
+                if adopt or _legacy(folder, before) else []
+            _record(folder, adopted, always=True)
         except OSError as exc:
             raise _refuse(folder, f"the output folder is not writable: {exc.strerror}") from None
         try:
