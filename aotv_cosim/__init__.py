@@ -14,7 +14,9 @@ __version__ = "0.1.0"
 
 _API = ("run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "build_fmus", "validate", "export_ssp",
         "Result")
-__all__ = [*_API, "__version__"]
+"""The names of the Python API (`aotv_cosim.api`)."""
+__all__ = ["Result", "__version__", "benchmark", "build_fmus", "corridor", "describe", "export_ssp", "montecarlo",
+           "run", "sweep", "validate"]
 
 
 def __getattr__(name):

@@ -18,24 +18,47 @@ import dataclasses
 import os
 import tempfile
 import threading
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Iterable, Mapping, Optional, Sequence, Union
 
 from aotv_cosim.errors import InputError
-from aotv_cosim.options import (BenchmarkOptions, BuildOptions, CampaignOptions, CheckOptions, CompareOptions,
-                                CorridorOptions, DescribeOptions, ExportOptions, RunOptions, SweepOptions,
-                                ValidateOptions)
+from aotv_cosim.options import (
+    BenchmarkOptions,
+    BuildOptions,
+    CampaignOptions,
+    CheckOptions,
+    CompareOptions,
+    CorridorOptions,
+    DescribeOptions,
+    ExportOptions,
+    RunOptions,
+    SweepOptions,
+    ValidateOptions,
+)
 from aotv_cosim.options.commands import DEFAULT_MAX_RSS_MIB
 from aotv_cosim.output.result_types import Campaign, Result
 
-PathLike = Union[str, os.PathLike]
+PathLike = str | os.PathLike
 """A file or folder path."""
-Overrides = Optional[Mapping[str, object]]
+Overrides = Mapping[str, object] | None
 """{'component.variable': value} in SI (an Enumeration by its integer or item name, a Boolean as
 True/False), like `--set`."""
 
-__all__ = ["run", "montecarlo", "benchmark", "sweep", "corridor", "describe", "build_fmus", "validate",
-           "export_ssp", "execute", "Result", "Campaign", "Benchmark"]
+__all__ = [
+    "Benchmark",
+    "Campaign",
+    "Result",
+    "benchmark",
+    "build_fmus",
+    "corridor",
+    "describe",
+    "execute",
+    "export_ssp",
+    "montecarlo",
+    "run",
+    "sweep",
+    "validate",
+]
 
 _ONE_AT_A_TIME = threading.RLock()
 """Held by every call (`execute`): calls from several threads of one process are made one after the
@@ -57,10 +80,10 @@ def execute(options, **hooks):
         return do(options, **hooks)
 
 
-def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop: Optional[float] = None,
-        step: Optional[float] = None, out: Optional[PathLike] = None, plots: bool = False,
-        formats: Union[str, Sequence[str]] = ("csv",), step_timeout: Optional[float] = None,
-        fmi_calls: Optional[str] = None) -> Result:
+def run(scenario, *, set: Overrides = None, start: float | None = None, stop: float | None = None,
+        step: float | None = None, out: PathLike | None = None, plots: bool = False,
+        formats: str | Sequence[str] = ("csv",), step_timeout: float | None = None,
+        fmi_calls: str | None = None) -> Result:
     """Run one scenario, as `aotv-cosim run` does.
 
     Parameters:
@@ -87,11 +110,11 @@ def run(scenario, *, set: Overrides = None, start: Optional[float] = None, stop:
                               formats=formats, step_timeout=step_timeout, fmi_calls=fmi_calls))
 
 
-def montecarlo(scenario, runs: int, *, workers: Optional[int] = None, seed: int = 0, scheduler=None,
-               out: Optional[PathLike] = None, resume: bool = False, set: Overrides = None,
-               start: Optional[float] = None, stop: Optional[float] = None, keep_series: bool = False,
-               step_timeout: Optional[float] = None, max_rss: Optional[float] = DEFAULT_MAX_RSS_MIB,
-               fmi_calls: Optional[str] = None) -> Campaign:
+def montecarlo(scenario, runs: int, *, workers: int | None = None, seed: int = 0, scheduler=None,
+               out: PathLike | None = None, resume: bool = False, set: Overrides = None,
+               start: float | None = None, stop: float | None = None, keep_series: bool = False,
+               step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
+               fmi_calls: str | None = None) -> Campaign:
     """Run `runs` dispersed runs of a scenario over its declared dispersions (`aotv-cosim montecarlo`).
 
     Parameters:
@@ -141,10 +164,10 @@ class Benchmark:
         return f"<Benchmark {len(self.scorecard)} laws x {self.result['runs']} runs, seed {self.result['seed']}>"
 
 
-def benchmark(scenario_set: PathLike, laws: Union[PathLike, Iterable[PathLike]] = (), *, runs: int = 1000,
-              workers: Optional[int] = None, seed: int = 0, scheduler=None, out: Optional[PathLike] = None,
-              reuse: bool = True, step_timeout: Optional[float] = None,
-              max_rss: Optional[float] = DEFAULT_MAX_RSS_MIB, fmi_calls: Optional[str] = None) -> Benchmark:
+def benchmark(scenario_set: PathLike, laws: PathLike | Iterable[PathLike] = (), *, runs: int = 1000,
+              workers: int | None = None, seed: int = 0, scheduler=None, out: PathLike | None = None,
+              reuse: bool = True, step_timeout: float | None = None,
+              max_rss: float | None = DEFAULT_MAX_RSS_MIB, fmi_calls: str | None = None) -> Benchmark:
     """Fly every law of a scenario set and your own laws through the same dispersions
     (`aotv-cosim benchmark`).
 
@@ -166,10 +189,10 @@ def benchmark(scenario_set: PathLike, laws: Union[PathLike, Iterable[PathLike]] 
                                     max_rss=max_rss, fmi_calls=fmi_calls))
 
 
-def sweep(scenario: PathLike, grids: Union[Mapping[str, Iterable[float]], Iterable[str]], *,
-          workers: Optional[int] = None, scheduler=None, set: Overrides = None, out: Optional[PathLike] = None,
-          step_timeout: Optional[float] = None, max_rss: Optional[float] = DEFAULT_MAX_RSS_MIB,
-          fmi_calls: Optional[str] = None):
+def sweep(scenario: PathLike, grids: Mapping[str, Iterable[float]] | Iterable[str], *,
+          workers: int | None = None, scheduler=None, set: Overrides = None, out: PathLike | None = None,
+          step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
+          fmi_calls: str | None = None):
     """Fly a scenario at every combination of parameter values (`aotv-cosim sweep`).
 
     Parameters:
@@ -189,9 +212,9 @@ def sweep(scenario: PathLike, grids: Union[Mapping[str, Iterable[float]], Iterab
 
 
 def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.0,
-             bracket: Sequence[float] = (-0.08, -0.002), out: Optional[PathLike] = None, workers: Optional[int] = None,
-             scheduler=None, step_timeout: Optional[float] = None, max_rss: Optional[float] = DEFAULT_MAX_RSS_MIB,
-             fmi_calls: Optional[str] = None) -> dict:
+             bracket: Sequence[float] = (-0.08, -0.002), out: PathLike | None = None, workers: int | None = None,
+             scheduler=None, step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
+             fmi_calls: str | None = None) -> dict:
     """The theoretical entry corridor of a scenario whose runs are classified (`aotv-cosim corridor`).
 
     Parameters:
@@ -222,21 +245,21 @@ def describe(target):
     return execute(DescribeOptions(target=target))
 
 
-def build_fmus(sources: Union[PathLike, Iterable[PathLike]] = (), *, out: Optional[PathLike] = None) -> dict:
+def build_fmus(sources: PathLike | Iterable[PathLike] = (), *, out: PathLike | None = None) -> dict:
     """Build the FMUs of fmus_src (or only `sources`: names of this package or your .py FMU
     sources, one alone is one) into the cache, or as NAME.fmu into `out` (`aotv-cosim build-fmus`);
     only changed sources are rebuilt. Returns {name: FMU path}."""
     return execute(BuildOptions(sources=sources, out=out))
 
 
-def validate(files: Union[PathLike, Iterable[PathLike]]) -> list:
+def validate(files: PathLike | Iterable[PathLike]) -> list:
     """Check scenario, wiring, comparison or .ssp files without running them (`aotv-cosim
     validate`): [(file, kind)] when all are sound; InputError (ValidationFailed for several
     problems of one file) at the first that is not."""
     return execute(ValidateOptions(files=files))
 
 
-def export_ssp(scenario: PathLike, out: PathLike, *, set: Overrides = None, step: Optional[float] = None) -> Path:
+def export_ssp(scenario: PathLike, out: PathLike, *, set: Overrides = None, step: float | None = None) -> Path:
     """Write the system of `scenario` as the SSP archive `out` (`aotv-cosim export-ssp`); returns
     its path."""
     return execute(ExportOptions(scenario=scenario, out=out, sets=set, step=step))

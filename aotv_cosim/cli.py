@@ -16,8 +16,8 @@ import click
 
 from aotv_cosim import cli_console as console
 from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
+from aotv_cosim.errors import AotvError, SimulationError, ValidationFailed
 from aotv_cosim.simulation import interrupts
-from aotv_cosim.errors import AotvError, InputError, SimulationError, ValidationFailed
 from aotv_cosim.status import Status
 
 DEFAULT_OUT = Path("results")

@@ -34,7 +34,7 @@ NO_WORKER_PATIENCE = 60.0
 """Seconds a Dask campaign waits with tasks pending and no worker in the cluster before it fails
 (workers that died at start, e.g. unable to import aotv_cosim, would leave it waiting forever)."""
 
-__all__ = ["Local", "Dask", "opened", "stream", "batches", "failed_row", "usable_cores"]
+__all__ = ["Dask", "Local", "batches", "failed_row", "opened", "stream", "usable_cores"]
 
 
 def failed_row(columns, run, values, error) -> dict:

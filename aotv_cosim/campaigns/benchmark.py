@@ -22,12 +22,12 @@ import numpy as np
 
 from aotv_cosim.campaigns import limits as limits_of_runs
 from aotv_cosim.campaigns.campaign import fly
-from aotv_cosim.campaigns.statistics import completed_values
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
-from aotv_cosim.mission.outcome import OUTCOMES
+from aotv_cosim.campaigns.statistics import completed_values
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.worker import columns
 from aotv_cosim.errors import InputError, ValidationFailed
+from aotv_cosim.mission.outcome import OUTCOMES
 from aotv_cosim.options import BenchmarkOptions
 from aotv_cosim.options.checks import check_fits, law_name
 from aotv_cosim.output.outdir import claimed, remove_written, written
@@ -410,7 +410,9 @@ def _write_scorecard(out, cards, units):
 def _write_rows_csv(path, rows, names):
     import csv
 
-    from aotv_cosim.campaigns.store import csv_cell  # the campaign rows' own cell format
+    from aotv_cosim.campaigns.store import (
+        csv_cell,  # the campaign rows' own cell format
+    )
 
     with open(path, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")

@@ -5,25 +5,23 @@ import json
 import time
 from pathlib import Path
 
-from aotv_cosim.simulation import interrupts
-
-from aotv_cosim.output import plausibility
-from aotv_cosim.errors import InputError
-from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.campaigns import backends, report, statistics
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
-from aotv_cosim.output.outdir import claimed
-from aotv_cosim.output.tracebacks import first_user_line
-from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.errors import InputError
 from aotv_cosim.model.scenario import Scenario
 from aotv_cosim.options import CampaignOptions
 from aotv_cosim.options.checks import check_fits
+from aotv_cosim.output import plausibility
+from aotv_cosim.output.outdir import claimed
+from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.output.tracebacks import first_user_line
+from aotv_cosim.simulation import interrupts
+from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.status import Status
-
 
 FAILURES = "failures.jsonl"
 """Every failed run of a campaign, one JSON object a line: run, status, error, the dispersed values
@@ -78,7 +76,7 @@ class Failures:
         if row["status"] == Status.COMPLETED:
             return
         if self.file is None:
-            self.file = open(self.path, "a", encoding="utf-8")
+            self.file = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 (kept open as runs fail; `close`)
         entry = {"run": row["run"], "status": str(row["status"]), "error": row["error"], **(failure or {}),
                  "dispersed": {k.split(".", 1)[1]: v for k, v in row.items() if k.startswith("dispersed.")}}
         self.file.write(json.dumps(entry, default=str) + "\n")

@@ -28,12 +28,12 @@ import json
 import math
 from pathlib import Path
 
-from aotv_cosim.model.documents import strict_json
 from aotv_cosim.errors import InputError, SimulationError
+from aotv_cosim.model.documents import strict_json
 from aotv_cosim.options import CorridorOptions
 from aotv_cosim.output.outdir import claimed
-from aotv_cosim.simulation import interrupts
 from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.status import Status
 

@@ -21,13 +21,12 @@ from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
-from aotv_cosim.simulation import interrupts
 from aotv_cosim.options import SweepOptions
 from aotv_cosim.output.outdir import claimed
-from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.simulation import interrupts
+from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.status import Status
-
 
 SWEEP_OUTPUTS = ("sweep.csv", "sweep.parquet", "sweep.parquet.part", "sweep.json", "sweep.json.part", "sweep.png")
 """The files a sweep writes in its folder."""

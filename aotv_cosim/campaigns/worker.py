@@ -14,8 +14,8 @@ import numpy as np
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.mission import outcome_rows
 from aotv_cosim.options import RunsOptions
-from aotv_cosim.simulation.master import Master
 from aotv_cosim.output.runner import attach_fmu_log, numeric_columns
+from aotv_cosim.simulation.master import Master
 from aotv_cosim.status import Status
 
 _LOCAL = threading.local()

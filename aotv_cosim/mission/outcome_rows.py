@@ -10,7 +10,12 @@ classified impact.
 
 import math
 
-from aotv_cosim.mission.outcome import RunOutcome, classify, record_from_row, record_from_summary
+from aotv_cosim.mission.outcome import (
+    RunOutcome,
+    classify,
+    record_from_row,
+    record_from_summary,
+)
 
 CLASS, REASON = "outcome", "outcome.reason"
 """The class column (one of outcome.OUTCOMES) and the text saying why."""

@@ -10,7 +10,6 @@ these fields; nothing reads the file's dictionary with defaults of its own.
 
 import math
 from dataclasses import dataclass, field
-from typing import Optional
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.mission.outcome import CaptureCriteria
@@ -30,11 +29,11 @@ class Limits:
     """Limits a vehicle must survive, stated by a scenario (None: not stated); a benchmark counts
     the completed runs above each (`campaigns.limits`)."""
 
-    load_factor: Optional[float] = None
+    load_factor: float | None = None
     """Peak aerodynamic load factor, in g0 (unit 1)."""
-    heat_rate: Optional[float] = None
+    heat_rate: float | None = None
     """Peak stagnation heat rate, W/m2."""
-    dynamic_pressure: Optional[float] = None
+    dynamic_pressure: float | None = None
     """Peak dynamic pressure, Pa."""
 
     def stated(self) -> dict:

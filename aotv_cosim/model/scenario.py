@@ -4,19 +4,18 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.model.capabilities import check_capabilities, default_experiment
 from aotv_cosim.model.dispersion_sets import dispersion_entries
 from aotv_cosim.model.documents import load_document
-from aotv_cosim.errors import InputError, raise_if_any
-from aotv_cosim.model.step_control import StepControl, step_control
-from aotv_cosim.paths import regular_file, resolved
 from aotv_cosim.model.fmu_file import FmuResolver
-from aotv_cosim.model.system import System, load_system
-from aotv_cosim.model.ranges import check_dispersion
-from aotv_cosim.model.capabilities import check_capabilities, default_experiment
 from aotv_cosim.model.outcome_settings import OutcomeSettings, outcome_settings
-from aotv_cosim.model.variable_types import DISCRETE, enumeration_value
+from aotv_cosim.model.ranges import check_dispersion
 from aotv_cosim.model.run_size import check_run_size
-
+from aotv_cosim.model.step_control import StepControl, step_control
+from aotv_cosim.model.system import System, load_system
+from aotv_cosim.model.variable_types import DISCRETE, enumeration_value
+from aotv_cosim.paths import regular_file, resolved
 
 MAX_STEPS = 1e9
 """Most communication points a scenario may ask for: more is a typing error (a step in ms, not s)."""

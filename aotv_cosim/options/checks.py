@@ -3,7 +3,8 @@ or the Python API): type, range, finiteness, counts and paths. A refused value i
 whose line is `FILE: ENTRY: CAUSE; FIX`, FILE the command's scenario (or set, or source) and ENTRY
 the option as the command line spells it (`--runs`), so both faces print and raise the same line.
 
-An options class (`options.commands`) declares each field with `option(default, check, entry)`;
+An options class (`options.commands`) declares each field with `field(default=..., metadata=rule(check,
+entry))`;
 `Options.__post_init__` runs the checks in field order, stores what they return (a path as a
 `Path`, a mapping as a tuple of pairs, so the object stays frozen and hashable) and then the
 class's `_check_together` for rules between fields.
@@ -12,9 +13,9 @@ class's `_check_together` for rules between fields.
 import math
 import os
 import re
-from dataclasses import MISSING, field, fields
+from collections.abc import Callable
+from dataclasses import fields
 from pathlib import Path
-from typing import Callable
 
 from aotv_cosim.errors import InputError
 
@@ -63,10 +64,11 @@ class Where:
         return InputError(cause, file=self.file, entry=self.entry, fix=fix)
 
 
-def option(default=MISSING, *, check: Callable, entry: str):
-    """A dataclass field whose value `check(value, where)` checks and normalises (`Where` gives the
-    line's FILE and ENTRY, `entry` as the command line names the option)."""
-    return field(default=default, metadata={"check": check, "entry": entry})
+def rule(check: Callable, entry: str) -> dict:
+    """The metadata of a dataclass field whose value `check(value, where)` checks and normalises
+    (`Where` gives the line's FILE and ENTRY, `entry` as the command line names the option):
+    `field(default=..., metadata=rule(check, "--option"))`."""
+    return {"check": check, "entry": entry}
 
 
 class Options:
@@ -82,7 +84,6 @@ class Options:
 
     def _file(self):
         """The FILE of this command's error lines (its scenario, set or source); None if none."""
-        return None
 
     def _check_together(self) -> None:
         """Rules between fields (none by default)."""

@@ -8,13 +8,27 @@ means every usable core) and where a face has no choice: the command line always
 output folder (`results/...` by default) and draws plots, the API writes nothing without `out`.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional, Tuple
 
 from aotv_cosim.options import checks
-from aotv_cosim.options.checks import (Options, bracket, choice, count, flag, grids, law_files, number, option,
-                                       overrides, path, paths, scheduler, seconds, workers)
+from aotv_cosim.options.checks import (
+    Options,
+    bracket,
+    choice,
+    count,
+    flag,
+    grids,
+    law_files,
+    number,
+    overrides,
+    path,
+    paths,
+    rule,
+    scheduler,
+    seconds,
+    workers,
+)
 from aotv_cosim.simulation.master import FMI_CALLS
 from aotv_cosim.simulation.watchdog import CAMPAIGN_STEP_TIMEOUT
 
@@ -53,28 +67,28 @@ class _Scenario(Options):
 class RunOptions(_Scenario):
     """`aotv-cosim run` / `aotv_cosim.run`: one scenario, in memory or into a folder."""
 
-    scenario: object = option(check=_scenario, entry="SCENARIO")
+    scenario: object = field(metadata=rule(_scenario, "SCENARIO"))
     """A scenario file (or an .ssp archive), or from Python a loaded Scenario."""
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """The output folder; None: in memory, nothing written."""
-    sets: tuple = option(None, check=overrides, entry="--set")
+    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
     """Overrides of parameters and unconnected inputs, SI: a mapping {'comp.var': value}, kept as
     pairs."""
-    step: Optional[float] = option(None, check=number(low=0.0, low_open=True, optional=True, unit="s",
-                                                      what="the step"), entry="--step")
+    step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
+                                                      what="the step"), "--step"))
     """Communication step, s (None: the scenario's)."""
-    start: Optional[float] = option(None, check=number(optional=True, unit="s", what="the start"), entry="--start")
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
     """Start time, s (None: the scenario's); with start or stop given only the expectations at
     the event are checked."""
-    stop: Optional[float] = option(None, check=number(optional=True, unit="s", what="the stop"), entry="--stop")
+    stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
     """Stop time, s (None: the scenario's)."""
-    formats: tuple = option(("csv",), check=checks.formats, entry="--format")
+    formats: tuple = field(default=("csv",), metadata=rule(checks.formats, "--format"))
     """Time series files: "csv" and/or "parquet"."""
-    plots: bool = option(False, check=flag, entry="--no-plots")
+    plots: bool = field(default=False, metadata=rule(flag, "--no-plots"))
     """Draw the PNG plots into `out` (needs `out`)."""
-    step_timeout: Optional[float] = option(None, check=seconds(), entry="--step-timeout")
+    step_timeout: float | None = field(default=None, metadata=rule(seconds(), "--step-timeout"))
     """Wall-clock limit of one communication step, s (None: the scenario's, else none)."""
-    fmi_calls: Optional[str] = option(None, check=_FMI_CALLS, entry="--fmi-calls")
+    fmi_calls: str | None = field(default=None, metadata=rule(_FMI_CALLS, "--fmi-calls"))
     """"direct" (this package's FMUs called in this interpreter; others through C) or "c" (every FMU
     through its C library); None: "direct". The results do not depend on it."""
 
@@ -93,19 +107,19 @@ class RunOptions(_Scenario):
 class CheckOptions(Options):
     """`aotv-cosim check`: run every scenario with expectations under `paths`."""
 
-    paths: tuple = option(("scenarios",), check=paths("scenario files or folders"), entry="PATHS")
+    paths: tuple = field(default=("scenarios",), metadata=rule(paths("scenario files or folders"), "PATHS"))
     """Scenario files or folders (default: scenarios/)."""
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """Base output folder: each scenario's results in OUT/<scenario> (None: results/check)."""
-    start: Optional[float] = option(None, check=number(optional=True, unit="s", what="the start"), entry="--start")
-    stop: Optional[float] = option(None, check=number(optional=True, unit="s", what="the stop"), entry="--stop")
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
 
 
 @dataclass(frozen=True, kw_only=True)
 class ValidateOptions(Options):
     """`aotv-cosim validate`: check scenario, wiring, comparison or .ssp files without running."""
 
-    files: tuple = option(check=paths("scenario, wiring or comparison files"), entry="FILES")
+    files: tuple = field(metadata=rule(paths("scenario, wiring or comparison files"), "FILES"))
 
     def _check_together(self):
         if not self.files:
@@ -116,7 +130,7 @@ class ValidateOptions(Options):
 class DescribeOptions(Options):
     """`aotv-cosim describe` / `aotv_cosim.describe`: the variables of an FMU or a system."""
 
-    target: object = option(check=_described, entry="FMU|WIRING")
+    target: object = field(metadata=rule(_described, "FMU|WIRING"))
     """An FMU name of this package, a .fmu, a .py FMU source, a wiring, scenario or .ssp file, or
     (from Python) a loaded System or Scenario."""
 
@@ -128,9 +142,9 @@ class DescribeOptions(Options):
 class BuildOptions(Options):
     """`aotv-cosim build-fmus` / `aotv_cosim.build_fmus`: the FMUs of fmus_src or your own sources."""
 
-    sources: tuple = option((), check=paths("FMU names or sources"), entry="NAME|SOURCE.py")
+    sources: tuple = field(default=(), metadata=rule(paths("FMU names or sources"), "NAME|SOURCE.py"))
     """Names of this package's FMUs or paths of .py FMU sources (none: every FMU of fmus_src)."""
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for the FMUs (NAME.fmu) instead of the cache."""
 
 
@@ -138,12 +152,12 @@ class BuildOptions(Options):
 class ExportOptions(_Scenario):
     """`aotv-cosim export-ssp`: a scenario's system as an SSP archive."""
 
-    scenario: object = option(check=_scenario, entry="SCENARIO")
-    out: Path = option(check=path(".ssp file"), entry="--out")
+    scenario: object = field(metadata=rule(_scenario, "SCENARIO"))
+    out: Path = field(metadata=rule(path(".ssp file"), "--out"))
     """The .ssp archive to write."""
-    sets: tuple = option(None, check=overrides, entry="--set")
-    step: Optional[float] = option(None, check=number(low=0.0, low_open=True, optional=True, unit="s",
-                                                      what="the step"), entry="--step")
+    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
+                                                      what="the step"), "--step"))
 
     @property
     def overrides(self) -> dict:
@@ -154,9 +168,9 @@ class ExportOptions(_Scenario):
 class CompareOptions(Options):
     """`aotv-cosim compare`: the seed documents' comparisons."""
 
-    comparison: Path = option(check=path("comparison file"), entry="COMPARISON")
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
-    plots: bool = option(True, check=flag, entry="--no-plots")
+    comparison: Path = field(metadata=rule(path("comparison file"), "COMPARISON"))
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
+    plots: bool = field(default=True, metadata=rule(flag, "--no-plots"))
 
     def _file(self):
         return checks.named(self.comparison)
@@ -167,22 +181,21 @@ class RunsOptions(_Scenario):
     """What every campaign-like command (montecarlo, benchmark, sweep, corridor) shares: where and
     how its runs are made. The whole object travels to every worker (local process or Dask task)."""
 
-    workers: Optional[int] = option(None, check=workers, entry="--workers")
+    workers: int | None = field(default=None, metadata=rule(workers, "--workers"))
     """Local worker processes (None: one per usable core); with a scheduler, batches are planned
     for at least this many workers."""
-    scheduler: object = option(None, check=scheduler, entry="--scheduler")
+    scheduler: object = field(default=None, metadata=rule(scheduler, "--scheduler"))
     """None for local workers, else a Dask scheduler address or (from Python) a distributed.Client;
     a Client does not travel to the workers (`__getstate__`)."""
-    step_timeout: Optional[float] = option(None, check=seconds(), entry="--step-timeout")
+    step_timeout: float | None = field(default=None, metadata=rule(seconds(), "--step-timeout"))
     """Wall-clock limit of one step, s (None: the scenario's step_timeout, else 60 s)."""
-    max_rss: Optional[float] = option(DEFAULT_MAX_RSS_MIB, check=number(low=0.0, low_open=True, optional=True,
-                                                                        unit="MiB", what="the memory limit"),
-                                      entry="--max-rss")
+    max_rss: float | None = field(default=DEFAULT_MAX_RSS_MIB, metadata=rule(number(low=0.0, low_open=True, optional=True,
+                                                                        unit="MiB", what="the memory limit"), "--max-rss"))
     """Resident memory a local worker may use, MiB (None: no limit): a run that passes it is
     recorded failed and its worker replaced."""
-    fmi_calls: Optional[str] = option(None, check=_FMI_CALLS, entry="--fmi-calls")
+    fmi_calls: str | None = field(default=None, metadata=rule(_FMI_CALLS, "--fmi-calls"))
     """As for `RunOptions.fmi_calls`; the rows do not depend on it."""
-    progress: bool = option(False, check=flag, entry="progress")
+    progress: bool = field(default=False, metadata=rule(flag, "progress"))
     """Show a progress bar on stderr (the command line does)."""
 
     keep_series = False
@@ -197,7 +210,7 @@ class RunsOptions(_Scenario):
         return self.step_timeout or scenario.step_timeout or CAMPAIGN_STEP_TIMEOUT
 
     @property
-    def max_rss_bytes(self) -> Optional[int]:
+    def max_rss_bytes(self) -> int | None:
         """`max_rss` in bytes (None: no limit)."""
         return None if self.max_rss is None else int(self.max_rss * 2**20)
 
@@ -214,24 +227,24 @@ class RunsOptions(_Scenario):
 class CampaignOptions(RunsOptions):
     """`aotv-cosim montecarlo` / `aotv_cosim.montecarlo`: dispersed runs of one scenario."""
 
-    scenario: object = option(check=_scenario, entry="SCENARIO")
+    scenario: object = field(metadata=rule(_scenario, "SCENARIO"))
     """A scenario file that declares dispersions (from Python a loaded Scenario: run from its file,
     which every worker loads)."""
-    runs: int = option(check=count(1, checks.MAX_RUNS, "runs"), entry="--runs")
+    runs: int = field(metadata=rule(count(1, checks.MAX_RUNS, "runs"), "--runs"))
     """Number of runs, 1 to MAX_RUNS."""
-    seed: int = option(0, check=count(0, checks.MAX_SEED, "seed"), entry="--seed")
+    seed: int = field(default=0, metadata=rule(count(0, checks.MAX_SEED, "seed"), "--seed"))
     """Campaign seed: run k's draws depend only on it and k."""
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """The campaign folder; None: a temporary one, removed."""
-    resume: bool = option(False, check=flag, entry="--resume")
+    resume: bool = field(default=False, metadata=rule(flag, "--resume"))
     """Continue an interrupted campaign in `out`."""
-    sets: tuple = option(None, check=overrides, entry="--set")
+    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
     """As for `RunOptions.sets`."""
-    start: Optional[float] = option(None, check=number(optional=True, unit="s", what="the start"), entry="--start")
-    stop: Optional[float] = option(None, check=number(optional=True, unit="s", what="the stop"), entry="--stop")
-    keep_series: bool = option(False, check=flag, entry="--keep-series")
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
+    keep_series: bool = field(default=False, metadata=rule(flag, "--keep-series"))
     """Also keep every run's recorded signals (about 200 rows a run) in series.parquet."""
-    plots: bool = option(True, check=flag, entry="plots")
+    plots: bool = field(default=True, metadata=rule(flag, "plots"))
     """Draw the campaign plots (with `out`)."""
 
     def _check_together(self):
@@ -253,18 +266,17 @@ class BenchmarkOptions(RunsOptions):
     """`aotv-cosim benchmark` / `aotv_cosim.benchmark`: every law of a set and your laws through
     the same dispersions."""
 
-    scenario_set: Path = option(check=path("scenario set (a folder, a scenario or a shipped set's name)"),
-                                entry="SET")
+    scenario_set: Path = field(metadata=rule(path("scenario set (a folder, a scenario or a shipped set's name)"), "SET"))
     """A folder of scenarios (one law each), one scenario file, or a shipped set's name
     (benchmark_seed000, benchmark_aerocapture/afe, benchmark_aerocapture/aotv)."""
-    laws: Tuple[Path, ...] = option((), check=law_files, entry="--law")
+    laws: tuple[Path, ...] = field(default=(), metadata=rule(law_files, "--law"))
     """Your laws: wiring or scenario files (one path alone is one law)."""
-    runs: int = option(1000, check=count(1, checks.MAX_RUNS, "runs"), entry="--runs")
+    runs: int = field(default=1000, metadata=rule(count(1, checks.MAX_RUNS, "runs"), "--runs"))
     """Runs per law, 1 to MAX_RUNS."""
-    seed: int = option(0, check=count(0, checks.MAX_SEED, "seed"), entry="--seed")
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    seed: int = field(default=0, metadata=rule(count(0, checks.MAX_SEED, "seed"), "--seed"))
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """The output folder; None: a temporary one, removed."""
-    reuse: bool = option(True, check=flag, entry="--refly")
+    reuse: bool = field(default=True, metadata=rule(flag, "--refly"))
     """Reuse the stored rows of laws unchanged since an earlier benchmark (--refly: False)."""
 
     def _file(self):
@@ -275,12 +287,12 @@ class BenchmarkOptions(RunsOptions):
 class SweepOptions(RunsOptions):
     """`aotv-cosim sweep` / `aotv_cosim.sweep`: a scenario flown at every point of parameter grids."""
 
-    scenario: Path = option(check=path("scenario file"), entry="SCENARIO")
-    grids: tuple = option(check=grids, entry="--grid")
+    scenario: Path = field(metadata=rule(path("scenario file"), "SCENARIO"))
+    grids: tuple = field(metadata=rule(grids, "--grid"))
     """((parameter, (values...)), ...), SI, from {"comp.var": values} or "comp.var=LOW:HIGH:N" texts;
     every combination is flown (at most MAX_POINTS)."""
-    sets: tuple = option(None, check=overrides, entry="--set")
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for sweep.csv/.parquet/.json and sweep.png; None: nothing kept."""
 
     @property
@@ -310,17 +322,16 @@ class CorridorOptions(RunsOptions):
     """`aotv-cosim corridor` / `aotv_cosim.corridor`: the entry corridor by bisection at full lift up
     and down."""
 
-    scenario: Path = option(check=path("scenario file"), entry="SCENARIO")
-    lift_to_drag: float = option(check=number(low=0.0, low_open=True, what="L/D"), entry="--lift-to-drag")
+    scenario: Path = field(metadata=rule(path("scenario file"), "SCENARIO"))
+    lift_to_drag: float = field(metadata=rule(number(low=0.0, low_open=True, what="L/D"), "--lift-to-drag"))
     """L/D flown at full lift up and full lift down (finite, > 0)."""
-    tolerance: float = option(100.0, check=number(low=0.0, low_open=True, unit="m", what="the tolerance"),
-                              entry="--tolerance")
+    tolerance: float = field(default=100.0, metadata=rule(number(low=0.0, low_open=True, unit="m", what="the tolerance"), "--tolerance"))
     """The bisection stops when a run's apogee error is this close to the band edge, m (finite, > 0)."""
-    bracket: tuple = option((-0.08, -0.002), check=bracket, entry="--bracket")
+    bracket: tuple = field(default=(-0.08, -0.002), metadata=rule(bracket, "--bracket"))
     """(steep, shallow) entry flight-path angles searched, rad, -pi/2 < steep < shallow < 0."""
-    out: Optional[Path] = option(None, check=path("output folder", optional=True), entry="--out")
+    out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for corridor.json, corridor.png and the two scenarios flown; None: nothing kept."""
-    workers: Optional[int] = option(None, check=workers, entry="--workers")
+    workers: int | None = field(default=None, metadata=rule(workers, "--workers"))
     """Local worker processes (None: one per usable core): the two bounds are searched side by side
     with 2; more are not used."""
 

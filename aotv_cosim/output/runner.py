@@ -7,16 +7,21 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__
-from aotv_cosim.simulation import interrupts
+from aotv_cosim.model.variable_types import Decoder
 from aotv_cosim.output import plausibility, plots
-from aotv_cosim.simulation.master import Master, signals_to_read
 from aotv_cosim.output.outdir import claimed
-from aotv_cosim.output.run_files import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
-                                       write_json_atomically)
+from aotv_cosim.output.run_files import (
+    OutputError,
+    TimeSeriesWriter,
+    evaluate_expectations,
+    statistics,
+    write_json_atomically,
+)
 from aotv_cosim.output.series import SeriesTable, units_of, write_parquet
 from aotv_cosim.output.summary import RunSummary
 from aotv_cosim.output.tracebacks import user_source
-from aotv_cosim.model.variable_types import Decoder
+from aotv_cosim.simulation import interrupts
+from aotv_cosim.simulation.master import Master, signals_to_read
 from aotv_cosim.status import Status
 
 FORMATS = ("csv", "parquet")
