@@ -53,6 +53,11 @@ def _guard(function):
         return function()
     except BrokenPipeError:
         _closed_pipe()
+    except KeyboardInterrupt:  # Ctrl-C outside the deferred handling of runs and campaigns (loading, building)
+        if _Context.debug:
+            raise
+        click.echo("error: interrupted by SIGINT; the files written so far are kept", err=True)
+        sys.exit(128 + signal.SIGINT)
     except AotvError as exc:
         if _Context.debug:
             raise
@@ -129,7 +134,7 @@ def _step_timeout(default_text="the scenario's step_timeout, else none"):
 
 
 _FMI_CALLS = click.option(
-    "--fmi-calls", type=click.Choice(["c", "direct"]), default=None,
+    "--fmi-calls", metavar="direct|c", default=None,
     help="How the FMUs are called: direct, this package's own FMUs called in this process's Python (faster, "
          "the same results), others through their FMI C libraries; c, every FMU through its C library [direct].")
 """The --fmi-calls option of the commands that run."""

@@ -79,7 +79,7 @@ def campaign(scenario, runs: int, workers: int, out: Path) -> dict:
     """A `runs`-run campaign on `workers` local workers: wall s, CPU ms per run of the workers
     (children's CPU time over the runs) and the rows.csv text."""
     from aotv_cosim.campaigns import run_campaign
-from aotv_cosim.options import CampaignOptions
+    from aotv_cosim.options import CampaignOptions
 
     cpu0, t0 = _children_cpu(), time.perf_counter()
     summary = run_campaign(CampaignOptions(scenario=scenario, runs=runs, out=out, workers=workers, plots=False))

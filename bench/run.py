@@ -285,7 +285,7 @@ def campaign_figures(scenario, runs, eff_runs):
     campaign `scenario` on 1 and on 2 local workers, whether their rows.csv are identical, the
     parallel efficiency t1 / (2 t2), and the summary of `runs` runs on 2 workers."""
     from aotv_cosim.campaigns import run_campaign
-from aotv_cosim.options import CampaignOptions
+    from aotv_cosim.options import CampaignOptions
 
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
