@@ -281,7 +281,7 @@ def _do_run(options: RunOptions, progress=None) -> Result:
                              fmi_calls=options.fmi_calls), out=Path(options.out))
 
 
-def _loaded(options):
+def _loaded(options: RunOptions):
     """The options' scenario loaded with their overrides applied once (a path is loaded with them,
     its FMUs built when missing or stale; a loaded Scenario is copied with them)."""
     from aotv_cosim.model.scenario import Scenario, check_times
@@ -289,7 +289,7 @@ def _loaded(options):
     from aotv_cosim.simulation.loading import load_scenario
 
     scenario, sets = options.scenario, options.overrides or None
-    start, stop, step = getattr(options, "start", None), getattr(options, "stop", None), options.step
+    start, stop, step = options.start, options.stop, options.step
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario, sets, step, start, stop)
     else:
@@ -304,7 +304,7 @@ def _loaded(options):
         if changed:
             scenario = dataclasses.replace(scenario, **changed)
             check_times(scenario)
-    timeout = getattr(options, "step_timeout", None)
+    timeout = options.step_timeout
     return scenario if timeout is None else dataclasses.replace(scenario, step_timeout=timeout)
 
 

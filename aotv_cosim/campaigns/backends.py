@@ -157,7 +157,6 @@ class Dask:
         threads = sum(self.client.nthreads().values()) if self.client.scheduler_info().get("workers") else 0
         self.workers = max(options.workers, threads, 1)
         self.ahead = 2 * self.workers
-        self.refs = {}
 
     @property
     def pending(self) -> int:

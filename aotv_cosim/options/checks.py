@@ -121,11 +121,16 @@ def count(low: int, high, what: str, fix: str = "") -> Callable:
 
 
 def workers(value, where: Where):
-    """Local worker processes: None (every usable core) or an integer from 1 to
-    WORKERS_PER_CORE x the usable cores."""
+    """Workers: None (every usable core) or an integer from 1 to MAX_SCHEDULED_WORKERS (local
+    processes are bounded further by `local_workers`)."""
     if value is None:
         return usable_cores()
-    return count(1, lambda: WORKERS_PER_CORE * usable_cores(), "workers",
+    return count(1, MAX_SCHEDULED_WORKERS, "workers")(value, where)
+
+
+def local_workers(value: int, where: Where) -> int:
+    """Local worker processes: at most WORKERS_PER_CORE x the usable cores."""
+    return count(1, WORKERS_PER_CORE * usable_cores(), "workers",
                  f"give at most {WORKERS_PER_CORE} per usable core ({usable_cores()} here); more only compete "
                  "for the cores and memory")(value, where)
 
@@ -199,13 +204,13 @@ def existing_file(what: str) -> Callable:
     return check
 
 
-def paths(what: str, *, single_is_one=True) -> Callable:
+def paths(what: str) -> Callable:
     """Paths (`path`) as a tuple: an iterable of them, or one path given alone (a str is one path,
     never read letter by letter)."""
     def check(value, where: Where):
         if value is None:
             return ()
-        if isinstance(value, (str, os.PathLike)) and single_is_one:
+        if isinstance(value, (str, os.PathLike)):
             value = [value]
         if isinstance(value, (bytes, dict)) or not hasattr(value, "__iter__"):
             raise where.refuse(f"expected paths of {what}, got {_shown(value)}", f"give a list of paths of {what}")

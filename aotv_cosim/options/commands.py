@@ -182,8 +182,8 @@ class RunsOptions(_Scenario):
     how its runs are made. The whole object travels to every worker (local process or Dask task)."""
 
     workers: int | None = field(default=None, metadata=rule(workers, "--workers"))
-    """Local worker processes (None: one per usable core); with a scheduler, batches are planned
-    for at least this many workers."""
+    """Local worker processes (None: one per usable core; at most 4 per usable core); with a
+    scheduler, batches are planned for at least this many workers (at most 4096)."""
     scheduler: object = field(default=None, metadata=rule(scheduler, "--scheduler"))
     """None for local workers, else a Dask scheduler address or (from Python) a distributed.Client;
     a Client does not travel to the workers (`__getstate__`)."""
@@ -197,6 +197,10 @@ class RunsOptions(_Scenario):
     """As for `RunOptions.fmi_calls`; the rows do not depend on it."""
     progress: bool = field(default=False, metadata=rule(flag, "progress"))
     """Show a progress bar on stderr (the command line does)."""
+
+    def _check_together(self):
+        if self.scheduler is None:
+            checks.local_workers(self.workers, checks.Where(self._file(), "--workers"))
 
     keep_series = False
     """Whether each row carries its run's decimated signals (only `CampaignOptions` can ask)."""
@@ -250,6 +254,7 @@ class CampaignOptions(RunsOptions):
     def _check_together(self):
         from aotv_cosim.model.scenario import Scenario
 
+        super()._check_together()
         if self.resume and self.out is None:
             raise checks.InputError("resume needs the folder of the interrupted campaign", file=self._file(),
                                     entry="--resume", fix="give out=FOLDER")
