@@ -3,18 +3,18 @@ in one module (`checks`), built alike by the command line and the Python API and
 where the work is done."""
 
 from aotv_cosim.options.commands import (
-                                         BenchmarkOptions,
-                                         BuildOptions,
-                                         CampaignOptions,
-                                         CheckOptions,
-                                         CompareOptions,
-                                         CorridorOptions,
-                                         DescribeOptions,
-                                         ExportOptions,
-                                         RunOptions,
-                                         RunsOptions,
-                                         SweepOptions,
-                                         ValidateOptions,
+    BenchmarkOptions,
+    BuildOptions,
+    CampaignOptions,
+    CheckOptions,
+    CompareOptions,
+    CorridorOptions,
+    DescribeOptions,
+    ExportOptions,
+    RunOptions,
+    RunsOptions,
+    SweepOptions,
+    ValidateOptions,
 )
 
 __all__ = ["BenchmarkOptions", "BuildOptions", "CampaignOptions", "CheckOptions", "CompareOptions",
