@@ -16,9 +16,8 @@ import click
 
 from aotv_cosim import cli_console as console
 from aotv_cosim.cli_usage import OneLineGroup, UserPath, one_line
+from aotv_cosim.errors import AotvError, SimulationError, ValidationFailed
 from aotv_cosim.simulation import interrupts
-from aotv_cosim.errors import AotvError, InputError, SimulationError, ValidationFailed
-from aotv_cosim.paths import writable_file, writable_folder
 from aotv_cosim.status import Status
 
 DEFAULT_OUT = Path("results")
@@ -54,6 +53,11 @@ def _guard(function):
         return function()
     except BrokenPipeError:
         _closed_pipe()
+    except KeyboardInterrupt:  # Ctrl-C outside the deferred handling of runs and campaigns (loading, building)
+        if _Context.debug:
+            raise
+        click.echo("error: interrupted by SIGINT; the files written so far are kept", err=True)
+        sys.exit(128 + signal.SIGINT)
     except AotvError as exc:
         if _Context.debug:
             raise
@@ -82,17 +86,32 @@ def main(debug):
     _Context.debug = debug
 
 
-def _run_one(scenario, out_dir, plots, formats=("csv",), fmi_calls=None):
+def _run_one(scenario, out_dir, plots=False):
+    """A run of `check`, into out_dir, with its progress bar; returns its RunSummary."""
     from aotv_cosim.output.runner import run_scenario
 
     bar, update = console.progress_bar(scenario)
     try:
-        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots, formats=formats,
-                               fmi_calls=fmi_calls)
+        summary = run_scenario(scenario, out_dir, progress=update, make_plots=plots)
         console.finish_bar(bar, summary, scenario.start)
     finally:
         bar.close()
-    return summary, out_dir
+    return summary
+
+
+def _execute(options, **hooks):
+    """The API's `execute` of `options`, showing a message and a bar if it builds FMUs (the first
+    use of changed sources)."""
+    from aotv_cosim.api import execute
+    from aotv_cosim.fmu.build_progress import BuildProgress
+
+    with BuildProgress():
+        return execute(options, **hooks)
+
+
+def _default_out(out, scenario, suffix=""):
+    """--out, else results/<scenario's name><suffix> (the command line always writes its results)."""
+    return Path(out) if out else DEFAULT_OUT / f"{Path(str(scenario)).stem}{suffix}"
 
 
 _TIMES = [click.option("--start", type=float, help="Start time in s, overriding the scenario."),
@@ -109,23 +128,33 @@ def _time_options(command):
 
 def _step_timeout(default_text="the scenario's step_timeout, else none"):
     """The --step-timeout option (s, positive)."""
-    return click.option("--step-timeout", type=click.FloatRange(min=0, min_open=True), metavar="SECONDS",
+    return click.option("--step-timeout", type=float, metavar="SECONDS",
                         help=f"Wall-clock limit of one communication step: a step that takes longer (a hung FMU) "
                              f"fails the run, its rows kept [{default_text}].")
 
 
 _FMI_CALLS = click.option(
-    "--fmi-calls", type=click.Choice(["c", "direct"]), default=None,
+    "--fmi-calls", metavar="direct|c", default=None,
     help="How the FMUs are called: direct, this package's own FMUs called in this process's Python (faster, "
          "the same results), others through their FMI C libraries; c, every FMU through its C library [direct].")
-"""The --fmi-calls option of run, montecarlo and benchmark."""
+"""The --fmi-calls option of the commands that run."""
 
 
-def _limited(scenario, step_timeout):
-    """The scenario with --step-timeout applied (when given)."""
-    import dataclasses
+def _runs_options(command):
+    """Add the options of how runs are made (montecarlo, benchmark, sweep, corridor): --workers,
+    --scheduler, --step-timeout, --max-rss, --fmi-calls."""
+    from aotv_cosim.options.commands import DEFAULT_MAX_RSS_MIB
 
-    return scenario if step_timeout is None else dataclasses.replace(scenario, step_timeout=step_timeout)
+    for option in reversed([
+            click.option("--workers", type=int, default=1, show_default=True, help="Local worker processes."),
+            click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead."),
+            _step_timeout("the scenario's step_timeout, else 60"),
+            click.option("--max-rss", type=float, default=DEFAULT_MAX_RSS_MIB, show_default=True, metavar="MIB",
+                         help="Resident memory a local worker may use, MiB: a run that passes it is recorded "
+                              "failed and its worker replaced."),
+            _FMI_CALLS]):
+        command = option(command)
+    return command
 
 
 _FORMATS = {"csv": ("csv",), "parquet": ("parquet",), "both": ("csv", "parquet")}
@@ -148,14 +177,19 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
     Exit status: 0 done, 1 failed run or expectations, 2 bad input, 130/143 interrupted by
     SIGINT/SIGTERM (the results up to then are kept, summary status 'interrupted')."""
     from aotv_cosim.model.documents import parse_sets
-    from aotv_cosim.simulation.loading import load_scenario
+    from aotv_cosim.options import RunOptions
 
     def body():
-        loaded = _limited(_with_builds(lambda: load_scenario(scenario, parse_sets(sets, file=scenario), step, start, stop)),
-                          step_timeout)
-        out_dir = Path(out) if out else DEFAULT_OUT / Path(scenario).stem  # claimed by the runner
-        summary, out_dir = _run_one(loaded, out_dir, not no_plots, _FORMATS[series_format], fmi_calls)
-        console.print_summary(summary, out_dir)
+        options = RunOptions(scenario=scenario, out=_default_out(out, scenario), sets=parse_sets(sets, file=scenario),
+                             step=step, start=start, stop=stop, formats=_FORMATS[series_format], plots=not no_plots,
+                             step_timeout=step_timeout, fmi_calls=fmi_calls)
+        bar = _RunBar()
+        try:
+            summary = _execute(options, progress=bar.begin).run_summary
+            bar.finish(summary)
+        finally:
+            bar.close()
+        console.print_summary(summary, options.out)
         _print_outcome(summary)
         _print_fmu_traceback(summary)
         if not summary.status.ended_cleanly:
@@ -166,6 +200,27 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
 
     with interrupts.deferred():
         _guard(body)
+
+
+class _RunBar:
+    """A run's progress bar (`cli_console.progress_bar`), made when the scenario is loaded (`begin`,
+    the API's progress hook: it spans the scenario's times)."""
+
+    def __init__(self):
+        self.bar, self.start = None, 0.0
+
+    def begin(self, scenario):
+        self.bar, update = console.progress_bar(scenario)
+        self.start = scenario.start
+        return update
+
+    def finish(self, summary):
+        if self.bar is not None:
+            console.finish_bar(self.bar, summary, self.start)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _print_outcome(summary):
@@ -182,14 +237,22 @@ def _print_outcome(summary):
 
 
 def _print_fmu_traceback(summary):
-    """The Python traceback an FMU logged when it failed (its file and line), with --debug; else
-    a hint that it is there."""
-    trace = (summary.error_detail or {}).get("traceback")
-    if trace and _Context.debug:
+    """The Python traceback an FMU logged when it failed: its last frames (the user's file and line)
+    and the exception, compactly; all of it with --debug."""
+    from aotv_cosim.output.tracebacks import short_traceback
+
+    detail = summary.error_detail or {}
+    trace = detail.get("traceback")
+    if not trace:
+        return
+    if _Context.debug:
         click.echo(trace, err=True)
-    elif trace:
-        click.echo("  the FMU's Python traceback is in summary.json (error_detail.traceback); "
-                   "--debug prints it", err=True)
+        return
+    lines = short_traceback(trace, detail.get("source"))
+    click.echo(f"  {detail.get('component') or 'the FMU'} raised (last frames; the whole traceback is in "
+               "summary.json error_detail.traceback):", err=True)
+    for line in lines:
+        click.echo(f"    {line}", err=True)
 
 
 @main.command()
@@ -201,31 +264,25 @@ def check(paths, out, start, stop):
 
     Every scenario found is loaded and validated before the first one runs; each result line
     starts with its N/M count."""
-    from aotv_cosim.simulation.loading import load_scenario
+    from aotv_cosim.options import CheckOptions
 
     def body():
-        files = []
-        for p in paths or ("scenarios",):
-            p = Path(p)
-            if p.is_dir() and not os.access(p, os.R_OK | os.X_OK):
-                raise InputError("cannot list the folder: permission denied", file=p,
-                                 fix="give a folder you may read")
-            files += [f for f in sorted(p.glob("*.json")) if _kind(f) == "scenario"] if p.is_dir() else [p]
-        loaded = _with_builds(lambda: [load_scenario(f, start=start, stop=stop) for f in files])
-        candidates = [s for s in loaded if s.expectations or s.skipped]
-        writable_folder(Path(out or DEFAULT_OUT / "check"))
-        failed, t0 = 0, time.perf_counter()
-        for k, scenario in enumerate(candidates, 1):
-            summary, _ = _run_one(scenario, Path(out or DEFAULT_OUT / "check") / scenario.path.stem, False)
+        options = CheckOptions(paths=paths or ("scenarios",), out=out, start=start, stop=stop)
+        t0 = time.perf_counter()
+        failed = []
+
+        def each(k, total, scenario, summary):
             ok = summary.status.ended_cleanly and all(r["passed"] for r in summary.expectations)
-            failed += not ok
-            click.echo(f"[{k}/{len(candidates)}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary.status}, "
+            failed.extend([] if ok else [scenario])
+            click.echo(f"[{k}/{total}] {'PASS' if ok else 'FAIL'} {scenario.path}  ({summary.status}, "
                        f"{summary.wall_time_s:.2f} s)")
             console.print_failure(summary)
             console.print_expectations(summary.expectations)
-            if summary.status == Status.INTERRUPTED:
-                sys.exit(_exit_status(summary.status))
-        click.echo(f"{len(candidates) - failed} passed, {failed} failed in {time.perf_counter() - t0:.1f} s")
+
+        done = _execute(options, each=each, run=_run_one)
+        if done and done[-1][1].status == Status.INTERRUPTED:
+            sys.exit(_exit_status(done[-1][1].status))
+        click.echo(f"{len(done) - len(failed)} passed, {len(failed)} failed in {time.perf_counter() - t0:.1f} s")
         sys.exit(1 if failed else 0)
 
     with interrupts.deferred():
@@ -236,51 +293,9 @@ def check(paths, out, start, stop):
 @click.argument("files", nargs=-1, required=True, type=UserPath(dir_okay=False))
 def validate(files):
     """Check scenario, wiring or comparison FILES without running them."""
-    from aotv_cosim.studies.compare import load_comparison
-    from aotv_cosim.simulation.loading import load_scenario
-    from aotv_cosim.simulation.loading import load_system
-    from aotv_cosim.fmu.build import built_fmu
+    from aotv_cosim.options import ValidateOptions
 
-    loaders = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
-               "compare": load_comparison}
-
-    def body():
-        for f in files:
-            kind = _kind(f)
-            loaders[kind](f)
-            click.echo(f"ok: {f} ({kind})")
-
-    _guard(body)
-
-
-def _with_builds(load):
-    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
-    from aotv_cosim.fmu.build_progress import BuildProgress
-
-    with BuildProgress():
-        return load()
-
-
-def _kind(path):
-    """The kind of document `path` is: named by its "$schema" (wiring, compare, scenario), else
-    'wiring' if it has components or connections, else 'scenario'.
-
-    A file that cannot be read or parsed, or is no regular file (a FIFO would block), counts as
-    a scenario: its loader reports the problem."""
-    from aotv_cosim.model.documents import strict_json
-    from aotv_cosim.paths import MAX_DOCUMENT_BYTES, regular_file
-
-    try:
-        regular_file(path, max_bytes=MAX_DOCUMENT_BYTES)
-        doc = strict_json(Path(path).read_text(encoding="utf-8"))
-    except (InputError, OSError, ValueError, RecursionError):
-        return "scenario"
-    if not isinstance(doc, dict):
-        return "scenario"
-    named = [k for k in ("wiring", "compare", "scenario") if f"{k}.schema.json" in str(doc.get("$schema", ""))]
-    if named:
-        return named[0]
-    return "wiring" if "components" in doc or "connections" in doc else "scenario"
+    _guard(lambda: _execute(ValidateOptions(files=files), each=lambda f, kind: click.echo(f"ok: {f} ({kind})")))
 
 
 @main.command()
@@ -289,9 +304,10 @@ def describe(target):
     """Print the variables of an FMU (a name of this package or a .fmu file), or of every FMU of a
     WIRING, scenario or .ssp file: causality, variability, type, unit, start, declared min and
     max, description (for a wiring also the value it sets or the source of a connected input)."""
-    from aotv_cosim.variables import describe as table, format_table
+    from aotv_cosim.options import DescribeOptions
+    from aotv_cosim.variables import format_table
 
-    _guard(lambda: click.echo(format_table(_with_builds(lambda: table(target)))))
+    _guard(lambda: click.echo(format_table(_execute(DescribeOptions(target=target)))))
 
 
 @main.command("build-fmus")
@@ -303,56 +319,47 @@ def build_fmus(sources, out, fmi_version):
     """Build the FMUs of fmus_src, or only the given ones: names of this package or your own FMU
     sources (SOURCE.py, any folder; see docs/writing-a-guidance-law.md). Only changed sources are
     rebuilt (content hash)."""
+    from aotv_cosim.api import execute
     from aotv_cosim.fmu import build as fmu_build
     from aotv_cosim.fmu.build_progress import BuildProgress
+    from aotv_cosim.options import BuildOptions
 
     def body():
-        refs = list(sources) or fmu_build.available_fmus()
-        version = int(fmi_version) if fmi_version else None
-        with BuildProgress(total=sum(fmu_build.needs_build(r, out, version) for r in refs)) as progress:
-            for ref in refs:
-                progress.echo(f"{fmu_build.fmu_source(ref).stem}: {fmu_build.ensure_fmu(ref, out, version)}")
+        options = BuildOptions(sources=sources, out=out, fmi_version=int(fmi_version) if fmi_version else None)
+        refs = [str(s) for s in options.sources] or fmu_build.available_fmus()
+        with BuildProgress(total=sum(fmu_build.needs_build(r, options.out, options.fmi_version) for r in refs)) \
+                as progress:
+            execute(options, progress=progress)
 
     _guard(body)
 
 
 @main.command()
 @click.argument("scenario", type=UserPath(dir_okay=False))
-@click.option("--runs", type=click.IntRange(min=1), required=True, help="Number of runs.")
-@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Local worker processes.")
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
-@click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
+@click.option("--runs", type=int, required=True, help="Number of runs.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Campaign seed.")
 @click.option("--out", type=UserPath(), help="Output folder [results/<scenario>-mc].")
 @click.option("--resume", is_flag=True, help="Continue an interrupted campaign in --out.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--keep-series", is_flag=True, help="Keep every run's recorded signals (about 200 rows a run) in "
                                                   "series.parquet and draw the trajectory overlay.")
 @_time_options
-@_step_timeout("the scenario's step_timeout, else 60")
-@click.option("--max-rss", type=click.FloatRange(min=0, min_open=True), default=2048, show_default=True,
-              metavar="MIB", help="Resident memory a local worker may use, MiB: a run that passes it is recorded "
-                                  "failed and its worker replaced.")
-@_FMI_CALLS
-def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep_series, start, stop, step_timeout,
+@_runs_options
+def montecarlo(scenario, runs, seed, out, resume, sets, keep_series, start, stop, workers, scheduler, step_timeout,
                max_rss, fmi_calls):
     """Run a Monte Carlo campaign of SCENARIO over its declared dispersions."""
-    from aotv_cosim.campaigns.checks import check_reachable, check_resumable
     from aotv_cosim.campaigns.report import console_table
-    from aotv_cosim.campaigns import run_campaign
     from aotv_cosim.model.documents import parse_sets
+    from aotv_cosim.options import CampaignOptions
 
     def body():
-        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-mc"
-        if resume:
-            check_resumable(out_dir)
-        if scheduler:
-            check_reachable(scheduler)
-        summary = _with_builds(lambda: run_campaign(scenario, runs, out_dir, workers=workers, seed=seed,
-                                                    scheduler=scheduler, resume=resume,
-                                                    sets=parse_sets(sets, file=scenario) or None, start=start, stop=stop,
-                                                    keep_series=keep_series, step_timeout=step_timeout,
-                                                    max_rss=max_rss * 2**20, fmi_calls=fmi_calls))
+        options = CampaignOptions(scenario=scenario, runs=runs, workers=workers, seed=seed, scheduler=scheduler,
+                                  out=_default_out(out, scenario, "-mc"), resume=resume,
+                                  sets=parse_sets(sets, file=scenario), start=start, stop=stop,
+                                  keep_series=keep_series, step_timeout=step_timeout, max_rss=max_rss,
+                                  fmi_calls=fmi_calls, progress=True)
+        summary = _execute(options).summary
+        out_dir = options.out
         for warning in summary["warnings"]:
             click.echo(f"warning: {warning}", err=True)
         rate = summary["runs_per_s"]
@@ -361,56 +368,77 @@ def montecarlo(scenario, runs, workers, seed, scheduler, out, resume, sets, keep
         click.echo(console_table(summary["three_sigma"], summary["units"], summary["outcomes"]))
         click.echo(f"  rows in {out_dir / 'rows.csv'} and rows.parquet, statistics and units in summary.json,"
                    f" tables and plots in {out_dir / 'report.md'}")
+        _print_failures(summary, out_dir)
         if summary["status"] == Status.INTERRUPTED:
-            click.echo(f"  {summary['stop_reason']}: finished runs kept; --resume runs the others")
+            click.echo(f"  {summary['stop_reason']}: {summary['runs'] - summary['runs_left']} finished runs kept in "
+                       f"{out_dir}; --resume runs the other {summary['runs_left']}")
             sys.exit(_exit_status(summary["status"]))
         if not summary["statuses"].get(Status.COMPLETED):
-            first = summary["failed"][0] if summary["failed"] else {"run": "-", "error": "no run"}
-            click.echo(f"error: {scenario}: runs: none of the {runs} runs completed (run {first['run']}: "
-                       f"{' '.join(str(first['error']).split())}); see the error column of rows.csv", err=True)
+            failures = summary["failures"] or {"first": {"run": "-", "where": "no run"}, "file": "rows.csv"}
+            click.echo(f"error: {scenario}: runs: none of the {runs} runs completed (run {failures['first']['run']}: "
+                       f"{failures['first']['where']}); every run's error is in {out_dir / failures['file']}", err=True)
             sys.exit(1)
 
     _guard(body)
 
 
+def _print_failures(summary, out_dir):
+    """The count of failed runs, the first one's cause and where every failed run's traceback is."""
+    failures = summary.get("failures")
+    if not failures:
+        return
+    first = failures["first"]
+    click.echo(f"  {failures['count']} run(s) failed; the first, run {first['run']}: {first['where']}", err=True)
+    click.echo(f"  every failed run's error and traceback: {out_dir / failures['file']}", err=True)
+
+
 @main.command()
 @click.argument("scenario_set", metavar="SET", type=UserPath())
-@click.option("--law", "laws", multiple=True, type=UserPath(exists=True, dir_okay=False), metavar="FILE",
+@click.option("--law", "laws", multiple=True, type=UserPath(dir_okay=False), metavar="FILE",
               help="Your law: a wiring (flown in SET's first scenario) or a scenario with SET's dispersions "
                    "(repeatable).")
-@click.option("--runs", type=click.IntRange(min=1), default=1000, show_default=True, help="Runs per law.")
-@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Local worker processes.")
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Campaign seed.")
-@click.option("--scheduler", metavar="ADDRESS", help="Run on this Dask distributed scheduler instead.")
+@click.option("--runs", type=int, default=1000, show_default=True, help="Runs per law.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Campaign seed.")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<set>-benchmark].")
 @click.option("--refly", is_flag=True, help="Fly every law, even those whose stored rows could be reused.")
-@_FMI_CALLS
-def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly, fmi_calls):
+@_runs_options
+def benchmark(scenario_set, laws, runs, seed, out, refly, workers, scheduler, step_timeout, max_rss, fmi_calls):
     """Fly every law (scenario) of SET (a folder, one scenario file, or a shipped set by name:
-    benchmark_seed000) and each --law through the
+    benchmark_seed000, benchmark_aerocapture/afe, benchmark_aerocapture/aotv) and each --law through the
     same dispersions; write a scorecard. A law whose scenario, FMUs, dispersions, seed and N are
     unchanged since an earlier benchmark is not flown again: its stored rows are reused."""
-    from aotv_cosim.campaigns.benchmark import run_benchmark
-    from aotv_cosim.campaigns.benchmark_report import console
-    from aotv_cosim.campaigns.checks import check_reachable
+    from aotv_cosim.campaigns.benchmark_report import console as scorecard_text
+    from aotv_cosim.options import BenchmarkOptions
 
     def body():
-        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario_set).stem}-benchmark"
-        writable_folder(out_dir)
-        if scheduler:
-            check_reachable(scheduler)
-        result = _with_builds(lambda: run_benchmark(scenario_set, runs, out_dir, workers=workers, seed=seed,
-                                                    scheduler=scheduler, laws=laws, echo=click.echo,
-                                                    reuse=not refly, fmi_calls=fmi_calls))
-        click.echo(console(result["scorecard"], result["units"]))
+        options = BenchmarkOptions(scenario_set=scenario_set, laws=laws, runs=runs, workers=workers, seed=seed,
+                                   scheduler=scheduler, out=_default_out(out, scenario_set, "-benchmark"),
+                                   reuse=not refly, step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls,
+                                   progress=True)
+        bench = _execute(options, echo=click.echo)
+        result, out_dir = bench.result, options.out
+        if result["status"] == Status.INTERRUPTED:
+            law = result["interrupted_law"]
+            done = [name for name in result["laws"] if name != law]
+            click.echo(f"  interrupted by {interrupts.name() or 'a signal'} while flying {law}: its finished runs are "
+                       f"in {out_dir / law}; laws done before (stored for reuse when flown to the end): "
+                       f"{', '.join(done) or 'none'}; no scorecard written", err=True)
+            sys.exit(_exit_status(Status.INTERRUPTED))
+        click.echo(scorecard_text(result["scorecard"], result["units"]))
         flown = [law for law, info in result["laws"].items() if not info["reused"]]
         click.echo(f"{len(result['scorecard'])} laws x {runs} runs ({len(flown)} flown now in "
                    f"{result['wall_time_s']:.1f} s, {len(result['scorecard']) - len(flown)} reused); scorecard.csv,"
                    f" rows.csv, rows.parquet, report.md and plots in {out_dir}")
+        for law in result["failed_laws"]:
+            first = result["laws"][law]["first_failure"]
+            cause = first.get("where") or " ".join(str(first["error"]).split())
+            click.echo(f"error: {law}: runs: every one of its {runs} runs failed (run {first['run']}: {cause}); its "
+                       f"rows are not stored for reuse, every run's traceback is in "
+                       f"{out_dir / law / 'failures.jsonl'}", err=True)
+        if result["failed_laws"]:
+            sys.exit(1)
 
-    with interrupts.deferred():
-        _guard(body)
+    _guard(body)
 
 
 @main.command()
@@ -418,38 +446,36 @@ def benchmark(scenario_set, laws, runs, workers, seed, scheduler, out, refly, fm
 @click.option("--grid", "grids", multiple=True, required=True, metavar="COMP.VAR=LOW:HIGH:N",
               help="Values of a parameter: N evenly spaced from LOW to HIGH, or A,B,C (SI; repeatable: every "
                    "combination is flown).")
-@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Local worker processes.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-sweep].")
-def sweep(scenario, grids, workers, sets, out):
+@_runs_options
+def sweep(scenario, grids, sets, out, workers, scheduler, step_timeout, max_rss, fmi_calls):
     """Fly SCENARIO at every point of the grids: sweep.csv/.parquet (one row per point: the parameters,
     outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
     from aotv_cosim.campaigns.units import display
-    from aotv_cosim.campaigns.sweep import run_sweep
     from aotv_cosim.model.documents import parse_sets
+    from aotv_cosim.options import SweepOptions
 
     def body():
-        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-sweep"
-        writable_folder(out_dir)
-        result = _with_builds(lambda: run_sweep(scenario, grids, out_dir, workers=workers,
-                                                sets=parse_sets(sets) or None))
-        units = result["units"]
+        options = SweepOptions(scenario=scenario, grids=grids, sets=parse_sets(sets, file=scenario),
+                               out=_default_out(out, scenario, "-sweep"), workers=workers, scheduler=scheduler,
+                               step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls, progress=True)
+        frame = _execute(options)
+        result, units = frame.attrs["sweep"], frame.attrs["units"]
         shown = result["parameters"] + [c for c in ("outcome", "outcome.apogee_error", "outcome.dv_total")
                                         if c in units]
         click.echo("  ".join(f"{c} [{display(c, units[c])[0]}]" if units[c] else c for c in shown))
-        for row in result["rows"]:
+        for row in frame.to_dict("records"):
             cells = [row[c] if isinstance(row[c], str) else f"{float(row[c]) * display(c, units[c])[1]:.6g}"
                      for c in shown]
             click.echo("  ".join(cells))
         click.echo(f"{result['runs']} runs in {result['wall_time_s']:.1f} s; sweep.csv, sweep.parquet (SI) and "
-                   f"sweep.png in {out_dir}")
+                   f"sweep.png in {options.out}")
         if result["status"] == Status.INTERRUPTED:
             click.echo(f"  interrupted after {result['runs']} of {result['points']} points: those are kept")
             sys.exit(_exit_status(result["status"]))
 
-    with interrupts.deferred():
-        _guard(body)
+    _guard(body)
 
 
 @main.command()
@@ -461,25 +487,32 @@ def sweep(scenario, grids, workers, sets, out):
 @click.option("--bracket", type=(float, float), default=(-0.08, -0.002), show_default=True,
               metavar="STEEP SHALLOW", help="Entry flight-path angles searched (rad).")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-corridor].")
-def corridor(scenario, lift_to_drag, tolerance, bracket, out):
+@_runs_options
+def corridor(scenario, lift_to_drag, tolerance, bracket, out, workers, scheduler, step_timeout, max_rss, fmi_calls):
     """The theoretical entry corridor of SCENARIO: the entry flight-path angles bounding capture at
     full lift up (steep bound) and full lift down (shallow bound), by bisection on the capture
-    band; corridor.json, corridor.png."""
+    band; corridor.json, corridor.png. With --workers 2 both bounds are searched side by side."""
     import math
 
-    from aotv_cosim.campaigns.corridor import run_corridor
+    from aotv_cosim.options import CorridorOptions
 
     def body():
-        out_dir = Path(out) if out else DEFAULT_OUT / f"{Path(scenario).stem}-corridor"
-        writable_folder(out_dir)
-        r = _with_builds(lambda: run_corridor(scenario, out_dir, lift_to_drag, tolerance, bracket))
+        options = CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, tolerance=tolerance, bracket=bracket,
+                                  out=_default_out(out, scenario, "-corridor"), workers=workers, scheduler=scheduler,
+                                  step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls)
+        try:
+            r = _execute(options)
+        except interrupts.Interrupted:
+            click.echo(f"  interrupted by {interrupts.name()}: no corridor.json written (the two scenarios flown are "
+                       f"in {options.out})", err=True)
+            sys.exit(_exit_status(Status.INTERRUPTED))
         for bound, how in (("steep", "full lift up"), ("shallow", "full lift down")):
             b = r[bound]
             click.echo(f"{bound} bound ({how}, L/D {lift_to_drag:g}): gamma0 = {b['gamma0']:.6g} rad "
                        f"({math.degrees(b['gamma0']):.4f} deg), apogee error {b['apogee_error'] / 1e3:+.4f} km "
                        f"(edge {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
         click.echo(f"corridor width {r['width_rad']:.6g} rad ({r['width_deg']:.4f} deg); nominal gamma0 "
-                   f"{r['nominal_gamma0']:g} rad; corridor.json and corridor.png in {out_dir}")
+                   f"{r['nominal_gamma0']:g} rad; corridor.json and corridor.png in {options.out}")
 
     with interrupts.deferred():
         _guard(body)
@@ -496,15 +529,16 @@ def corridor(scenario, lift_to_drag, tolerance, bracket, out):
 def export_ssp(scenario, out, sets, step, fmi_version):
     """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
     from aotv_cosim.model.documents import parse_sets
-    from aotv_cosim.simulation.loading import load_scenario
-    from aotv_cosim.ssp.export import default_experiment, export_ssp as write_ssp
+    from aotv_cosim.options import ExportOptions
+    from aotv_cosim.ssp.export import default_experiment
 
     def body():
-        loaded = load_scenario(scenario, parse_sets(sets, file=scenario), step)
-        path = write_ssp(loaded, writable_file(out, "--out"), fmi_version=int(fmi_version))
+        system = []
+        path = _execute(ExportOptions(scenario=scenario, out=out, sets=parse_sets(sets, file=scenario), step=step,
+                                      fmi_version=int(fmi_version)),
+                        loaded=lambda s: system.append(s.system))
         start, stop, every = default_experiment(path)  # the stop the system reaches (ssp.experiment)
-        click.echo(f"{path}: {len(loaded.system.components)} components, "
-                   f"{len(loaded.system.connections)} connections, "
+        click.echo(f"{path}: {len(system[0].components)} components, {len(system[0].connections)} connections, "
                    f"{start:g}..{stop:g} s by {every:g} s")
 
     _guard(body)
@@ -517,17 +551,24 @@ def export_ssp(scenario, out, sets, step, fmi_version):
 def compare(comparison, out, no_plots):
     """Fly every guidance law of COMPARISON [scenarios/aotv_compare.json] through the same
     (dispersed) atmosphere; write comparison.csv and comparison.png, print the table."""
-    from aotv_cosim.studies.compare import format_table, load_comparison, run_comparison
+    from aotv_cosim.options import CompareOptions
+    from aotv_cosim.studies.compare import format_table
 
     def body():
-        loaded = load_comparison(comparison)
-        out_dir = writable_folder(Path(out) if out else DEFAULT_OUT / Path(comparison).stem)
-        table = run_comparison(loaded, out_dir, progress=lambda law: click.echo(f"flying {law}", err=True),
-                               make_plots=not no_plots)
+        options = CompareOptions(comparison=comparison, out=_default_out(out, comparison), plots=not no_plots)
+        table = _execute(options, progress=lambda law: click.echo(f"flying {law}", err=True))
         click.echo(format_table(table))
-        click.echo(f"table in {out_dir / 'comparison.csv'}")
+        click.echo(f"table in {options.out / 'comparison.csv'}")
 
     _guard(body)
+
+
+def _with_builds(load):
+    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
+    from aotv_cosim.fmu.build_progress import BuildProgress
+
+    with BuildProgress():
+        return load()
 
 
 @main.group()

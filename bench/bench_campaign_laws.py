@@ -79,9 +79,10 @@ def campaign(scenario, runs: int, workers: int, out: Path) -> dict:
     """A `runs`-run campaign on `workers` local workers: wall s, CPU ms per run of the workers
     (children's CPU time over the runs) and the rows.csv text."""
     from aotv_cosim.campaigns import run_campaign
+    from aotv_cosim.options import CampaignOptions
 
     cpu0, t0 = _children_cpu(), time.perf_counter()
-    summary = run_campaign(scenario, runs, out, workers=workers, progress=False, make_plots=False)
+    summary = run_campaign(CampaignOptions(scenario=scenario, runs=runs, out=out, workers=workers, plots=False))
     wall, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
     assert summary["statuses"].get("completed", 0) + summary["statuses"].get("failed", 0) == runs, summary
     return {"wall": wall, "cpu_ms": cpu / runs * 1e3, "rows": (out / "rows.csv").read_text()}

@@ -285,13 +285,14 @@ def campaign_figures(scenario, runs, eff_runs):
     campaign `scenario` on 1 and on 2 local workers, whether their rows.csv are identical, the
     parallel efficiency t1 / (2 t2), and the summary of `runs` runs on 2 workers."""
     from aotv_cosim.campaigns import run_campaign
+    from aotv_cosim.options import CampaignOptions
 
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        t1 = run_campaign(scenario, eff_runs, tmp / "w1", workers=1, progress=False, make_plots=False)
-        t2 = run_campaign(scenario, eff_runs, tmp / "w2", workers=2, progress=False, make_plots=False)
+        t1 = run_campaign(CampaignOptions(scenario=scenario, runs=eff_runs, out=tmp / "w1", workers=1, plots=False))
+        t2 = run_campaign(CampaignOptions(scenario=scenario, runs=eff_runs, out=tmp / "w2", workers=2, plots=False))
         same = (tmp / "w1" / "rows.csv").read_text() == (tmp / "w2" / "rows.csv").read_text()
-        big = run_campaign(scenario, runs, tmp / "big", workers=2, progress=False, make_plots=False)
+        big = run_campaign(CampaignOptions(scenario=scenario, runs=runs, out=tmp / "big", workers=2, plots=False))
     return t1, t2, same, t1["wall_time_s"] / (2 * t2["wall_time_s"]), big
 
 

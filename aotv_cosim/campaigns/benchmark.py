@@ -21,16 +21,26 @@ from pathlib import Path
 import numpy as np
 
 from aotv_cosim.campaigns import limits as limits_of_runs
-from aotv_cosim.campaigns.campaign import CampaignOptions, fly
-from aotv_cosim.campaigns.statistics import completed_values
+from aotv_cosim.campaigns.campaign import fly
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
-from aotv_cosim.mission.outcome import OUTCOMES
+from aotv_cosim.campaigns.statistics import completed_values
 from aotv_cosim.campaigns.store import write_parquet
 from aotv_cosim.campaigns.worker import columns
-from aotv_cosim.errors import InputError
+from aotv_cosim.errors import InputError, ValidationFailed
+from aotv_cosim.mission.outcome import OUTCOMES
+from aotv_cosim.options import BenchmarkOptions
+from aotv_cosim.options.checks import check_fits, law_name
+from aotv_cosim.output.outdir import claimed, remove_written, written
 from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.status import Status
+
+LAWS = "laws"
+"""The folder of the output folder holding the scenarios generated for --law wirings."""
+BENCHMARK_OUTPUTS = ("rows.csv", "rows.parquet", "rows.parquet.part", "scorecard.csv", "scorecard.json",
+                     "scorecard.json.part", "report.md", "benchmark.png")
+"""The files a benchmark writes in its folder (besides laws/ and one campaign folder per law)."""
 
 PERCENT = (0.135, 50.0, 99.865)
 
@@ -45,20 +55,36 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
 whose value is finite (an unbound exit orbit has no finite apogee error)."""
 
 
+def shipped_sets() -> list:
+    """Names of the sets shipped with the package (folders of scenarios under its scenarios/ whose
+    name starts with "benchmark"), e.g. benchmark_seed000, benchmark_aerocapture/afe."""
+    from aotv_cosim.studies.shipped import scenarios_dir
+
+    base = scenarios_dir()
+    folders = list(base.glob("benchmark*/")) + list(base.glob("benchmark*/*/"))
+    return sorted(str(f.relative_to(base)) for f in folders
+                  if f.is_dir() and f.name not in ("systems", "dispersions") and any(f.glob("*.json")))
+
+
 def set_path(set_dir) -> Path:
-    """SET as given when it exists, else the set of that name shipped with the package (e.g.
-    "benchmark_seed000": scenarios/benchmark_seed000 of the installed package)."""
+    """SET as given when it exists, else the set of that name shipped with the package, from any
+    folder: "benchmark_seed000" or "scenarios/benchmark_aerocapture/afe" (the clone's path) name
+    scenarios/benchmark_seed000 and scenarios/benchmark_aerocapture/afe of the installed package."""
     from aotv_cosim.studies.shipped import scenarios_dir
 
     given = Path(set_dir)
-    shipped = scenarios_dir() / given
-    return shipped if not given.exists() and not given.is_absolute() and shipped.exists() else given
+    if given.exists() or given.is_absolute():
+        return given
+    parts = given.parts[1:] if given.parts[:1] == ("scenarios",) else given.parts
+    shipped = scenarios_dir().joinpath(*parts) if parts else None
+    return shipped if shipped is not None and shipped.exists() else given
 
 
 def scenarios_of(set_dir) -> list:
     """The set's scenarios [(file, loaded Scenario)], sorted by file, checked before any run: each
-    classifies its runs and all give the same campaign columns. A set is a folder of scenarios or
-    one scenario file. InputError for an empty or unusable set."""
+    classifies its runs, all give the same campaign columns, and each file name can name a law
+    (`options.checks.law_name`). A set is a folder of scenarios or one scenario file. InputError for
+    an empty or unusable set; an unknown one lists the shipped sets."""
     folder = set_path(set_dir)
     if folder.is_file() and _is_wiring(folder):
         raise InputError("a wiring, not a scenario set", file=folder,
@@ -66,13 +92,15 @@ def scenarios_of(set_dir) -> list:
     if folder.is_file():
         paths = [folder]
     elif not folder.is_dir():
-        raise InputError("not found", file=folder,
-                         fix="give a folder of scenario files, one law each, one scenario file, or the "
-                             "name of a shipped set (benchmark_seed000)")
+        raise InputError("not found, neither here nor among the shipped sets", file=folder,
+                         fix="give a folder of scenario files, one law each, one scenario file, or the name of "
+                             f"a shipped set: {', '.join(shipped_sets())}")
     else:
         paths = sorted(folder.glob("*.json"))
     if not paths:
         raise InputError("the folder holds no scenario file", file=folder, fix="put one *.json scenario per law in it")
+    for path in paths:
+        law_name(path.stem, path, "SET")
     loaded = [(path, load_scenario(path)) for path in paths]
     _check_alike(loaded)
     return loaded
@@ -95,23 +123,27 @@ def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
     """{law: (scenario path, loaded Scenario)}: the laws of the set's `scenarios_of` (file names),
     then each of `law_files` flown through the set's dispersions. A law file is a wiring (the
     set's first scenario is flown with its "system" replaced by it: written to
-    work_dir/laws/<law>.json) or a scenario whose dispersions and columns are the set's.
-    InputError for a clash of names or a law that does not fit."""
+    work_dir/laws/<law>.json; a problem found there is reported naming the law file) or a scenario
+    whose dispersions and columns are the set's. InputError for a clash of names, a name that
+    would alias the output folder's own files (`options.checks.law_name`) or a law that does not fit."""
     laws = {path.stem: (path, scenario) for path, scenario in set_scenarios}
-    set_names = set(laws)
+    set_names = {name.casefold() for name in laws}
     template, reference = set_scenarios[0]
     for law_file in map(Path, law_files):
-        law = law_file.stem
-        if law in laws:  # a law is named by its file name: two --law files may clash too
-            where = "in the set" if law in set_names else "given by another --law file"
+        law = law_name(law_file.stem, law_file)
+        if law.casefold() in {name.casefold() for name in laws}:  # a law is named by its file name
+            where = "in the set" if law.casefold() in set_names else "given by another --law file"
             raise InputError(f"a law named {law!r} is already {where}", file=law_file, entry="--law",
                              fix="rename the law file")
         if not law_file.is_file():
             raise InputError("file not found", file=law_file, entry="--law",
                              fix="give a wiring or scenario file of your law")
-        scenario_path = _flown_with(template, law_file, work_dir / "laws") if _is_wiring(law_file) \
-            else law_file.resolve()
-        scenario = load_scenario(scenario_path)
+        if _is_wiring(law_file):
+            scenario_path = _flown_with(template, law_file, work_dir)
+            scenario = _loaded_for(law_file, scenario_path, template)
+        else:
+            scenario_path = law_file.resolve()
+            scenario = load_scenario(scenario_path)
         if [d.__dict__ for d in scenario.dispersions] != [d.__dict__ for d in reference.dispersions]:
             raise InputError(f"its dispersions differ from those of {template.name}", file=law_file,
                              entry="dispersions", fix=f"use the dispersion_set of {template.name}, or give "
@@ -119,6 +151,20 @@ def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
         _check_alike([(template, reference), (law_file, scenario)])
         laws[law] = (scenario_path, scenario)
     return laws
+
+
+def _loaded_for(law_file: Path, generated: Path, template: Path):
+    """The generated scenario `generated` (the set's `template` flown by the wiring `law_file`)
+    loaded; a problem it has is reported naming the user's wiring, with the set's need said, and
+    the generated file is removed (the package wrote it)."""
+    try:
+        return load_scenario(generated)
+    except InputError as exc:
+        generated.unlink(missing_ok=True)
+        problems = [InputError(f"{p.cause} (the set's scenario {template.name} asks for it: a law flown in this set "
+                               "must provide it)", file=law_file, entry=p.entry, fix=p.fix)
+                    if str(p.file) == str(generated) else p for p in getattr(exc, "problems", [exc])]
+        raise (problems[0] if len(problems) == 1 else ValidationFailed(problems)) from None
 
 
 def _is_wiring(path: Path) -> bool:
@@ -132,9 +178,10 @@ def _is_wiring(path: Path) -> bool:
     return isinstance(doc, dict) and "components" in doc
 
 
-def _flown_with(template: Path, wiring: Path, folder: Path) -> Path:
-    """The template scenario with its "system" replaced by `wiring`, written to folder/<law>.json
-    (every relative path of the template made absolute)."""
+def _flown_with(template: Path, wiring: Path, out: Path) -> Path:
+    """The template scenario with its "system" replaced by `wiring`, written to out/laws/<law>.json
+    (every relative path of the template made absolute); a file there the package did not write is
+    refused, not overwritten."""
     from aotv_cosim.model.documents import strict_json
 
     doc = strict_json(template.read_text(encoding="utf-8"))
@@ -143,6 +190,11 @@ def _flown_with(template: Path, wiring: Path, folder: Path) -> Path:
         doc["dispersion_set"] = str((template.parent / doc["dispersion_set"]).resolve())
     doc["system"] = str(wiring.resolve())
     doc["description"] = f"{wiring.stem}: the scenario {template.resolve()} flown by the wiring {wiring.resolve()}"
+    folder = out / LAWS
+    name = f"{LAWS}/{wiring.stem}.json"
+    if (folder / f"{wiring.stem}.json").exists() and name not in written(out):
+        raise InputError(f"{name} is there and was not written by aotv-cosim: it would be overwritten", file=out,
+                         entry="--out", fix=f"move {out / name} away or choose another --out")
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"{wiring.stem}.json"
     path.write_text(json.dumps(doc, indent=2) + "\n")
@@ -220,81 +272,126 @@ def score(law, rows, cpu_per_run) -> dict:
     return card
 
 
-def run_benchmark(set_dir, runs, out_dir, workers=1, seed=0, scheduler=None, progress=True, laws=(),
-                  echo=None, reuse=True, fmi_calls=None) -> dict:
-    """Fly every law of the set, and each of the `laws` files (`law_scenarios`), for `runs` runs;
-    returns (and writes as scorecard.json) the set, runs, seed, "scorecard" (one dict per law),
-    its "units", "wall_time_s" of the campaigns flown now, "laws" ({law: {scenario, wall_time_s,
-    reused}}) and "plots".
+def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
+    """Fly every law of `options.scenario_set`, and each of `options.laws` (`law_scenarios`), for
+    `options.runs` runs into `options.out`; returns (and writes as scorecard.json) the set, runs,
+    seed, "status", "scorecard" (one dict per law), its "units", "wall_time_s" of the campaigns
+    flown now, "laws" ({law: {scenario, wall_time_s, reused, completed, first_failure}}),
+    "failed_laws" (those whose runs all failed) and "plots".
 
     A law whose scenario, FMUs, dispersions, seed and N are those of a campaign finished before
     (`campaign_key`) is not flown again: its rows are read from `stored_rows_dir()` (unless
-    `reuse` is False; every campaign flown to the end is stored). echo(text),
-    if given, is told which laws are reused and which are flown. fmi_calls: how the runs call the
-    FMUs (`CampaignOptions`); the rows do not depend on it, so it is not part of the key."""
-    out = Path(out_dir)
-    set_scenarios = scenarios_of(set_dir)
-    flown = law_scenarios(set_scenarios, laws, out)  # every law checked before anything is written
-    limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
-    out.mkdir(parents=True, exist_ok=True)
+    `options.reuse` is False). A campaign flown to the end is stored, unless no run of it
+    completed or a run was lost with its worker (a crash, a hang, the memory limit: causes of this
+    machine, not of the law). echo(text), if given, is told which laws are reused and which are
+    flown. SIGINT/SIGTERM stop the benchmark after the law being flown (its campaign folder keeps
+    its finished runs): the result has status "interrupted", the laws done so far, and the
+    folder's scorecard files are not written. `options.fmi_calls` does not change the rows, so it
+    is not part of the key."""
+    out = Path(options.out)
+    set_scenarios = scenarios_of(options.scenario_set)
+    created = not out.exists()
+    try:
+        with interrupts.deferred(), claimed(out, BENCHMARK_OUTPUTS):
+            flown = law_scenarios(set_scenarios, options.laws, out)  # every law checked before any run
+            limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
+            # every law's rows are kept for the scorecard, beside those of the law being flown
+            check_fits(options.runs * (len(flown) + 1), len(columns(set_scenarios[0][1])) + 1, options.scenario_set)
+            return _benchmark(options, out, flown, limits, echo)
+    except InputError:
+        if created:  # refused before any run: leave no folder behind
+            remove_written(out)
+        raise
+
+
+def _benchmark(options, out, flown, limits, echo) -> dict:
     cards, summaries, every_row, names, units = [], {}, [], None, None
+    status = Status.COMPLETED
     for law, (path, scenario) in flown.items():
-        key = campaign_key(path, scenario, runs, seed)
-        stored = _stored(key) if reuse else None
+        key = campaign_key(path, scenario, options.runs, options.seed)
+        stored = _stored(key) if options.reuse else None
         if stored is not None:
             rows, record = stored
             if echo:
-                echo(f"{law}: {runs} stored runs reused (same scenario, FMUs, dispersions, seed and N)")
-            summaries[law] = {"scenario": str(path), "wall_time_s": 0.0, "reused": True}
+                echo(f"{law}: {options.runs} stored runs reused (same scenario, FMUs, dispersions, seed and N)")
         else:
             if echo:
-                echo(f"{law}: flying {runs} runs")
-            options = CampaignOptions(workers, seed, scheduler, progress=progress, fmi_calls=fmi_calls)
-            rows, record = _fly(law, path, scenario, runs, out, options)
-            summaries[law] = {"scenario": str(path), "wall_time_s": record["wall_time_s"], "reused": False}
-            if record["status"] == Status.COMPLETED and len(rows) == runs:
+                echo(f"{law}: flying {options.runs} runs")
+            rows, record = _fly(law, path, scenario, out, options)
+            if record["status"] == Status.INTERRUPTED:
+                status = Status.INTERRUPTED
+                summaries[law] = _law_summary(path, record, rows, reused=False)
+                break
+            if _storable(rows, options.runs):
                 _store(key, rows, list(rows[0]), record)
-        cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits)})
+        summaries[law] = _law_summary(path, record, rows, reused=stored is not None)
+        cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits, scenario.outcome.vehicle)})
         names = names or ["law"] + list(rows[0])
         units = units or {"law": "", **record["units"]}
         every_row += [{"law": law, **r} for r in rows]
-    band = next(iter(flown.values()))[1].outcome.get("band", 10e3)
-    return _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, float(band),
-                          limits_of_runs.columns(limits))
+    band = next(iter(flown.values()))[1].outcome.band
+    result = {"set": str(set_path(options.scenario_set).resolve()), "runs": options.runs, "seed": options.seed,
+              "status": status.value, "scorecard": cards,
+              "units": dict(score_columns() + limits_of_runs.columns(limits)),
+              "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()), "laws": summaries,
+              "failed_laws": [law for law, s in summaries.items() if not s["completed"] and s["runs"]],
+              "plots": []}
+    if status == Status.INTERRUPTED:
+        result["interrupted_law"] = law
+        return result
+    return _write_results(out, result, every_row, names, units, band)
 
 
-def _fly(law, path, scenario, runs, out, options):
+def _law_summary(path, record, rows, reused) -> dict:
+    """A law's entry of the result: its scenario, wall time, whether its rows were reused, its runs,
+    how many completed, and its first failure {run, status, error, where: the user's file and line
+    when flown now} (None if none failed)."""
+    failed = [r for r in rows if r["status"] != Status.COMPLETED]
+    first = None
+    if failed:
+        first = {"run": failed[0]["run"], "status": str(failed[0]["status"]), "error": failed[0]["error"]}
+        found = record.get("failures")
+        if found and found["first"]["run"] == first["run"]:
+            first["where"] = found["first"]["where"]
+    return {"scenario": str(path), "wall_time_s": 0.0 if reused else record["wall_time_s"], "reused": reused,
+            "runs": len(rows), "completed": sum(r["status"] == Status.COMPLETED for r in rows),
+            "first_failure": first}
+
+
+def _storable(rows, runs) -> bool:
+    """Rows worth reusing: all `runs` of them, at least one completed, none lost with its worker."""
+    lost = ("crash: ", "step timeout: ", "memory: ")
+    return len(rows) == runs and any(r["status"] == Status.COMPLETED for r in rows) and \
+        not any(str(r["error"]).startswith(lost) for r in rows)
+
+
+def _fly(law, path, scenario, out, options):
     """(rows, record) of a campaign of the law (its file `path`, loaded as `scenario`) flown now
-    into out/<law> (an earlier benchmark's campaign there is replaced)."""
-    import shutil
-
+    into out/<law>: what an earlier benchmark wrote there is removed first, nothing else."""
     import pyarrow.parquet as pq
 
     folder = out / law
-    if (folder / "campaign.json").is_file():
-        shutil.rmtree(folder)
+    if folder.is_dir():
+        remove_written(folder)
     cpu0 = _cpu_seconds()
-    summary = fly(ScenarioRef.of(Path(path).resolve()), scenario, runs, folder, options)
-    cpu = (_cpu_seconds() - cpu0) / runs if options.scheduler is None else None
+    summary = fly(ScenarioRef.of(Path(path).resolve()), scenario, options, folder)
     rows = pq.read_table(folder / "rows.parquet").to_pylist()
-    record = {"card": score(law, rows, cpu), "units": summary["units"], "wall_time_s": summary["wall_time_s"],
-              "status": summary["status"]}
+    cpu = (_cpu_seconds() - cpu0) / len(rows) if options.scheduler is None and rows else None
+    record = {"card": score(law, rows, cpu) if rows else {"law": law, "runs": 0},
+              "units": summary["units"], "wall_time_s": summary["wall_time_s"], "status": summary["status"],
+              "failures": summary["failures"]}
     return rows, record
 
 
-def _write_results(set_dir, runs, seed, out, cards, summaries, every_row, names, units, band,
-                   limit_columns) -> dict:
+def _write_results(out, result, every_row, names, units, band) -> dict:
     from aotv_cosim.campaigns import benchmark_report
 
-    units_of_scores = dict(score_columns() + limit_columns)
-    result = {"set": str(set_path(set_dir).resolve()), "runs": runs, "seed": seed, "scorecard": cards,
-              "units": units_of_scores, "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()),
-              "laws": summaries}
+    cards, units_of_scores = result["scorecard"], result["units"]
     _write_scorecard(out, cards, units_of_scores)
     write_parquet(every_row, names, out / "rows.parquet", units)
     _write_rows_csv(out / "rows.csv", every_row, names)
     result["plots"] = benchmark_report.plots(out, {law: [r for r in every_row if r["law"] == law]
-                                                   for law in summaries}, band)
+                                                   for law in result["laws"]}, band)
     (out / "report.md").write_text(benchmark_report.markdown(result, cards, units_of_scores))
     write_json_atomically(out / "scorecard.json", result)
     return result
@@ -313,7 +410,9 @@ def _write_scorecard(out, cards, units):
 def _write_rows_csv(path, rows, names):
     import csv
 
-    from aotv_cosim.campaigns.store import csv_cell  # the campaign rows' own cell format
+    from aotv_cosim.campaigns.store import (
+        csv_cell,  # the campaign rows' own cell format
+    )
 
     with open(path, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")

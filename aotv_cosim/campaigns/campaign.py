@@ -1,104 +1,114 @@
 """A campaign from start to report: draws, batches, a backend, rows on disk, statistics."""
 
+import contextlib
+import json
 import time
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
 
-from aotv_cosim.simulation import interrupts, watchdog
-
-from aotv_cosim.output import plausibility
-from aotv_cosim.errors import InputError
-from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.campaigns import backends, report, statistics
 from aotv_cosim.campaigns.draws import draw
-from aotv_cosim.campaigns.pool import DEFAULT_MAX_RSS
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.store import RowStore
 from aotv_cosim.campaigns.units import column_units
 from aotv_cosim.campaigns.worker import columns
+from aotv_cosim.errors import InputError
+from aotv_cosim.model.scenario import Scenario
+from aotv_cosim.options import CampaignOptions
+from aotv_cosim.options.checks import check_fits
+from aotv_cosim.output import plausibility
 from aotv_cosim.output.outdir import claimed
 from aotv_cosim.output.run_files import write_json_atomically
-from aotv_cosim.model.scenario import Scenario
+from aotv_cosim.output.tracebacks import first_user_line
+from aotv_cosim.simulation import interrupts
+from aotv_cosim.simulation.master import FMI_CALLS_DEFAULT, Interrupted
 from aotv_cosim.status import Status
 
-
+FAILURES = "failures.jsonl"
+"""Every failed run of a campaign, one JSON object a line: run, status, error, the dispersed values
+and, when an FMU's Python code raised, its traceback and the user's source file."""
 CAMPAIGN_FILES = ("rows.csv", "rows.csv.part", "rows.parquet", "rows.parquet.part", "campaign.json",
-                  "summary.json", "summary.json.part")
-"""What a campaign writes (besides its plots) and so must not find there as folders."""
+                  "summary.json", "summary.json.part", FAILURES, "report.md", "histograms.png", "versus.png",
+                  "scatter.png", "series.parquet", "series.parquet.part", "trajectories.png")
+"""What a campaign writes in its folder."""
 
 
-def batches_of(items, workers):
-    """Batches of consecutive runs (Dask tasks; the local pool takes them a run at a time, so that
-    a lost worker costs one run), shrinking to the end (guided scheduling): each holds an eighth
-    of a worker's share of the runs still to batch, at most 25 and at least 1. A batch amortizes
-    the task overhead, and the last ones are single runs, so no worker idles long while another
-    finishes a batch: with even batches of 12, 200 predictive-law runs on 2 workers kept the
-    workers busy 89 % of the wall time (the last batch is 3.7 s of one worker)."""
-    batches, k = [], 0
-    while k < len(items):
-        size = max(1, min(25, (len(items) - k) // (8 * max(1, workers))))
-        batches.append(items[k:k + size])
-        k += size
-    return batches
+def run_campaign(options: CampaignOptions) -> dict:
+    """Run `options.runs` dispersed runs of `options.scenario` into `options.out`; returns the
+    campaign summary (summary.json).
 
-
-def run_campaign(scenario_path, runs, out_dir, workers=1, seed=0, scheduler=None, resume=False,
-                 sets=None, progress=True, make_plots=True, start=None, stop=None, keep_series=False,
-                 step_timeout=None, max_rss=DEFAULT_MAX_RSS, fmi_calls=None) -> dict:
-    """Run `runs` dispersed runs of the scenario; returns the campaign summary (summary.json).
-
-    scheduler: None for a local pool of `workers` processes, else a Dask scheduler address
-    (or a distributed.Client). The rows do not depend on either choice. start, stop (s)
-    override the scenario's times (--start, --stop). The summary's `units` give every column's.
-    keep_series: also write every run's recorded signals, decimated to about 200 rows, to
-    series.parquet (and draw the Monte Carlo trajectory overlay, `figures.trajectories`).
-    SIGINT/SIGTERM (deferred, see `interrupts`) stop the campaign: the finished runs are kept
-    (rows.csv, rows.parquet), summary.json says status 'interrupted', and --resume runs the rest.
-    step_timeout: wall-clock limit of one step, s (default the scenario's step_timeout, else
-    `watchdog.CAMPAIGN_STEP_TIMEOUT`); max_rss: a local worker's memory limit, bytes (None: none).
-    A run that passes either, or crashes its worker, is a 'failed' row with the cause (`pool`).
-    fmi_calls: "c" or "direct" (`simulation.master`; None: its default, "direct"); the rows do not
-    depend on it.
+    The local pool (`options.workers` processes) or the Dask scheduler (`options.scheduler`) gives
+    the same rows. The summary's `units` give every column's. With `keep_series` every run's
+    recorded signals, decimated to about 200 rows, go to series.parquet (and the Monte Carlo
+    trajectory overlay is drawn, `figures.trajectories`). SIGINT/SIGTERM (deferred, see
+    `interrupts`) stop the campaign: the finished runs are kept (rows.csv, rows.parquet),
+    summary.json says status 'interrupted', and `resume` runs the rest. A run that passes the step
+    limit or the memory limit, or crashes its worker, is a 'failed' row with the cause (`pool`).
     """
-    ref = ScenarioRef.of(Path(scenario_path).resolve(), sets, start, stop)
-    options = CampaignOptions(workers, seed, scheduler, resume, progress, make_plots, keep_series, step_timeout,
-                              max_rss, fmi_calls)
-    return fly(ref, ref.load(), runs, out_dir, options)
+    ref = ScenarioRef.of(Path(options.scenario).resolve(), options.overrides, options.start, options.stop)
+    return fly(ref, ref.load(), options, options.out)
 
 
-@dataclass(frozen=True)
-class CampaignOptions:
-    """How a campaign's runs are made and reported (the options of `run_campaign`)."""
-
-    workers: int = 1
-    """Local worker processes (with a scheduler: at least one batch per worker)."""
-    seed: int = 0
-    scheduler: object = None
-    """None for local workers, else a Dask scheduler address or distributed.Client."""
-    resume: bool = False
-    progress: bool = True
-    make_plots: bool = True
-    keep_series: bool = False
-    step_timeout: Optional[float] = None
-    """Wall-clock limit of one step, s (None: the scenario's, else `watchdog.CAMPAIGN_STEP_TIMEOUT`)."""
-    max_rss: Optional[int] = DEFAULT_MAX_RSS
-    """A local worker's memory limit, bytes (None: none)."""
-    fmi_calls: Optional[str] = None
-    """How the master calls the FMUs, "c" or "direct" (None: `master.FMI_CALLS_DEFAULT`)."""
-
-
-def fly(ref: ScenarioRef, scenario: Scenario, runs: int, out_dir, options: CampaignOptions) -> dict:
-    """`run_campaign` of the scenario `ref`, already loaded as `scenario`."""
+def fly(ref: ScenarioRef, scenario: Scenario, options, out) -> dict:
+    """`run_campaign` of the scenario `ref`, already loaded as `scenario`, into the folder `out`,
+    with the command's options (`runs`, `seed`, `resume`, `plots`, `keep_series` and how the runs
+    are made, `options.RunsOptions`; a benchmark gives its own for each of its laws)."""
     if not scenario.dispersions:
         raise InputError("the scenario declares no dispersions", file=ref.path, entry="dispersions",
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
-    with interrupts.deferred(), claimed(out_dir, CAMPAIGN_FILES):
-        return _campaign(ref, scenario, runs, Path(out_dir), options)
+    names = columns(scenario)
+    check_fits(options.runs, len(names), ref.path)
+    with interrupts.deferred(), claimed(out, CAMPAIGN_FILES, adopt=options.resume):
+        return _campaign(ref, scenario, Path(out), options)
 
 
-def _campaign(ref, scenario, runs, out, options):
-    step_limit = options.step_timeout or scenario.step_timeout or watchdog.CAMPAIGN_STEP_TIMEOUT
+class Failures:
+    """failures.jsonl of a campaign folder (`FAILURES`), written at the first failed run and appended
+    as failed runs come in (flushed: an interruption keeps them); a new campaign removes the one
+    of an earlier campaign in the folder, a resumed one continues it."""
+
+    def __init__(self, path: Path, resume: bool):
+        self.path, self.file = path, None
+        if not resume:
+            path.unlink(missing_ok=True)
+
+    def add(self, row, failure) -> None:
+        """Record `row` if its run did not complete, with `failure` ({"traceback", "source"} or None)."""
+        if row["status"] == Status.COMPLETED:
+            return
+        if self.file is None:
+            self.file = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 (kept open as runs fail; `close`)
+        entry = {"run": row["run"], "status": str(row["status"]), "error": row["error"], **(failure or {}),
+                 "dispersed": {k.split(".", 1)[1]: v for k, v in row.items() if k.startswith("dispersed.")}}
+        self.file.write(json.dumps(entry, default=str) + "\n")
+        self.file.flush()
+
+    def close(self) -> None:
+        if self.file is not None:
+            self.file.close()
+
+    def summary(self) -> "dict | None":
+        """{"count", "file", "first": {"run", "where"}}: how many runs failed (over every session) and
+        where the first (lowest run) failed: the user's file, line and exception when an FMU's
+        Python code raised, else the error; None when none failed."""
+        entries = {}
+        if not self.path.is_file():
+            return None
+        with open(self.path, encoding="utf-8") as f:
+            for line in f:
+                with contextlib.suppress(ValueError):
+                    entry = json.loads(line)
+                    entries[entry["run"]] = entry
+        if not entries:
+            return None
+        first = entries[min(entries)]
+        where = first_user_line(first["traceback"], first.get("source")) if first.get("traceback") else ""
+        return {"count": len(entries), "file": FAILURES,
+                "first": {"run": first["run"], "where": where or " ".join(str(first["error"]).split())}}
+
+
+def _campaign(ref, scenario, out, options):
+    runs = options.runs
+    step_limit = options.step_limit(scenario)
     names = columns(scenario)
     report.chosen(scenario, names)  # refuse an unknown report column before any run
     manifest = {"scenario": ref.path, "runs": runs, "seed": options.seed, "sets": ref.overrides,
@@ -106,36 +116,38 @@ def _campaign(ref, scenario, runs, out, options):
                 **({"start": ref.start, "stop": ref.stop} if ref.times_overridden else {})}
     units = column_units(scenario, names)
     store = RowStore(out, names, manifest, options.resume, units)
-    todo = [k for k in range(runs) if k not in store.done()]
-    work = [(k, draw(scenario.dispersions, options.seed, k)) for k in todo]
+    failures = Failures(out / FAILURES, options.resume)
+    done = store.done()
+    todo = runs - len(done)
+    work = ((k, draw(scenario.dispersions, options.seed, k)) for k in range(runs) if k not in done)
     local = options.scheduler is None
-    chunks = batches_of(work, options.workers if local else max(1, options.workers))
-    source = (backends.local(ref, chunks, options.workers, names, step_limit, options.max_rss,
-                             keep_series=options.keep_series, fmi_calls=options.fmi_calls) if local
-              else backends.dask(ref, chunks, options.scheduler, names, keep_series=options.keep_series,
-                                 fmi_calls=options.fmi_calls))
+    backend = backends.opened(options, step_limit, names)
     series = {}
     bar = None
     if options.progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=runs, initial=runs - len(todo), unit="run", desc="runs", smoothing=0.1)
+        bar = tqdm(total=runs, initial=runs - todo, unit="run", desc="runs", smoothing=0.1)
     t0 = time.perf_counter()
     status = Status.COMPLETED
+    interrupted = True  # until the runs are through: anything else stops the backend's pending work
     try:
-        for rows in source:
+        for rows in backends.stream(backend, ref, work, todo):
             for row in rows:
                 if "series" in row:
                     series[row["run"]] = row.pop("series")
+                failures.add(row, row.pop("failure", None))
                 store.add(row)
             if bar is not None:
                 bar.update(len(rows))
             if interrupts.received():
                 raise Interrupted(interrupts.name())
+        interrupted = False
     except Interrupted:
         status = Status.INTERRUPTED
     finally:
-        source.close()  # on an interruption, stop the backend's pending work
+        backend.close(interrupted)
+        failures.close()
         if bar is not None:
             bar.close()
     wall = time.perf_counter() - t0
@@ -149,22 +161,24 @@ def _campaign(ref, scenario, runs, out, options):
         "scenario": ref.path, "runs": runs, "seed": options.seed,
         "backend": "local" if local else "dask", "workers": options.workers,
         "fmi_calls": options.fmi_calls or FMI_CALLS_DEFAULT,
-        "runs_this_session": len(rows) - (runs - len(todo)), "wall_time_s": wall,
-        "runs_per_s": (len(rows) - (runs - len(todo))) / wall if wall > 0 else None,
+        "runs_this_session": len(rows) - len(done), "wall_time_s": wall,
+        "runs_per_s": (len(rows) - len(done)) / wall if wall > 0 else None,
         "statuses": statuses,
         "warnings": plausibility.unit_slips(scenario.system),
         "limits": {"step_timeout_s": step_limit,
-                   "max_rss_mib": options.max_rss / 2**20 if options.max_rss else None},
+                   "max_rss_mib": options.max_rss},
+        "runs_left": runs - len(rows),
         "failed": [{"run": r["run"], "status": r["status"], "error": r["error"]}
                    for r in rows if r["status"] != Status.COMPLETED][:50],
+        "failures": failures.summary(),
         "statistics": statistics.statistics(rows, names),
         "units": units,
     }
-    plots = options.make_plots and status == Status.COMPLETED
+    plots = options.plots and status == Status.COMPLETED
     summary.update(report.write(out, rows, scenario, units, names, plots))
     if options.keep_series:
         from aotv_cosim.campaigns.series import write_series
 
-        summary["plots"] += write_series(out, series, scenario, ref, plots)
+        summary["plots"] += write_series(out, series, scenario, ref, options, plots)
     write_json_atomically(out / "summary.json", summary)
     return summary

@@ -28,9 +28,12 @@ import json
 import math
 from pathlib import Path
 
-from aotv_cosim.model.documents import strict_json
 from aotv_cosim.errors import InputError, SimulationError
+from aotv_cosim.model.documents import strict_json
+from aotv_cosim.options import CorridorOptions
+from aotv_cosim.output.outdir import claimed
 from aotv_cosim.output.run_files import write_json_atomically
+from aotv_cosim.simulation import interrupts
 from aotv_cosim.simulation.loading import load_scenario
 from aotv_cosim.status import Status
 
@@ -39,15 +42,11 @@ LIFT = "corridor_lift"
 
 
 def corridor_scenarios(scenario_path, out_dir, lift_to_drag: float) -> dict:
-    """{"lift_up": path, "lift_down": path} of the scenario with its guidance replaced by
-    ConstantLiftToDrag at +lift_to_drag and -lift_to_drag, written to out_dir."""
+    """{"lift_up": path, "lift_down": path} of the scenario (which classifies its runs) with its
+    guidance replaced by ConstantLiftToDrag at +lift_to_drag and -lift_to_drag, written to out_dir."""
     scenario_path = Path(scenario_path).resolve()
     scenario = load_scenario(scenario_path)
-    if scenario.outcome is None:
-        raise InputError("the scenario does not classify its runs", file=scenario_path, entry="montecarlo",
-                         fix='add "montecarlo": {"outcome": {}} (the band the corridor is bounded by)')
-    settings = scenario.outcome
-    vehicle, actuator = settings.get("vehicle", "vehicle"), settings.get("actuator", "actuator")
+    vehicle, actuator = scenario.outcome.vehicle, scenario.outcome.actuator
     doc = strict_json(scenario_path.read_text(encoding="utf-8"))
     wiring_path = scenario.system.path
     wiring = strict_json(Path(wiring_path).read_text(encoding="utf-8"))
@@ -87,86 +86,128 @@ def _absolute(component: dict, base: Path) -> dict:
     return component
 
 
-def run_corridor(scenario_path, out_dir, lift_to_drag: float, tolerance: float = 100.0,
-                 bracket=(-0.08, -0.002), max_runs: int = 60) -> dict:
+CORRIDOR_OUTPUTS = ("corridor.json", "corridor.json.part", "corridor.png", "lift_up.json", "lift_down.json",
+                    "lift_up_wiring.json", "lift_down_wiring.json")
+"""The files a corridor writes in its folder."""
+
+
+def run_corridor(options: CorridorOptions, max_runs: int = 60) -> dict:
     """The corridor of the module docstring: {"steep": bound, "shallow": bound, "width_rad",
     "width_deg", "nominal_gamma0", "lift_to_drag", "tolerance_m", "band_m", "units", "plots"};
     each bound {"gamma0" rad, "apogee_error" m, "edge" m, "runs", "points": [(gamma0, error)]}.
-    Written to out_dir/corridor.json with corridor.png. bracket: the gamma0 range searched (rad)."""
-    from aotv_cosim.campaigns.scenario_ref import ScenarioRef
-    from aotv_cosim.campaigns.worker import Runner
-
-    check_options(scenario_path, lift_to_drag, tolerance, bracket)
-    out = Path(out_dir)
-    paths = corridor_scenarios(scenario_path, out, lift_to_drag)
+    Written to `options.out`: corridor.json, corridor.png and the two scenarios flown. The two
+    bisections go side by side on the options' backend (local workers or Dask), one run of each
+    at a time; each bound is the same whatever runs it. A SIGINT/SIGTERM raises
+    `simulation.interrupts.Interrupted` (the two scenarios are kept, no corridor.json)."""
+    scenario_path = Path(options.scenario).resolve()
     scenario = load_scenario(scenario_path)
-    vehicle = scenario.outcome.get("vehicle", "vehicle")
-    band = float(scenario.outcome.get("band", 10e3))
-    signal = f"{vehicle}.gamma0"
-    nominal = float(scenario.system.components[vehicle].parameters.get(
-        "gamma0", scenario.system.variable(signal).start))
-    result = {"scenario": str(Path(scenario_path).resolve()), "lift_to_drag": lift_to_drag, "tolerance_m": tolerance,
-              "band_m": band, "nominal_gamma0": nominal, "bracket": list(bracket)}
-    for bound, case, edge in (("steep", "lift_up", -band), ("shallow", "lift_down", band)):
-        runner = Runner(ScenarioRef.of(paths[case]))
-        result[bound] = _bisect(lambda g: _apogee_error(runner, signal, g), edge, tolerance, bracket, max_runs,
-                                case, paths[case])
-    result["width_rad"] = result["shallow"]["gamma0"] - result["steep"]["gamma0"]
-    result["width_deg"] = math.degrees(result["width_rad"])
-    result["units"] = {"gamma0": "rad", "apogee_error": "m", "edge": "m", "width_rad": "rad", "width_deg": "deg",
-                       "tolerance_m": "m", "band_m": "m", "lift_to_drag": "1"}
-    from aotv_cosim.campaigns.figures import corridor_plot
+    if scenario.outcome is None:
+        raise InputError("the scenario does not classify its runs", file=scenario_path, entry="montecarlo",
+                         fix='add "montecarlo": {"outcome": {}} (the band the corridor is bounded by)')
+    out = Path(options.out)
+    with interrupts.deferred(), claimed(out, CORRIDOR_OUTPUTS):
+        paths = corridor_scenarios(scenario_path, out, options.lift_to_drag)
+        vehicle, band = scenario.outcome.vehicle, scenario.outcome.band
+        signal = f"{vehicle}.gamma0"
+        nominal = float(scenario.system.components[vehicle].parameters.get(
+            "gamma0", scenario.system.variable(signal).start))
+        result = {"scenario": str(scenario_path), "lift_to_drag": options.lift_to_drag,
+                  "tolerance_m": options.tolerance, "band_m": band, "nominal_gamma0": nominal,
+                  "bracket": list(options.bracket)}
+        searches = {bound: _Bisection(case, paths[case], edge, options, max_runs)
+                    for bound, case, edge in (("steep", "lift_up", -band), ("shallow", "lift_down", band))}
+        result.update(_search(searches, signal, options, scenario))
+        result["width_rad"] = result["shallow"]["gamma0"] - result["steep"]["gamma0"]
+        result["width_deg"] = math.degrees(result["width_rad"])
+        result["units"] = {"gamma0": "rad", "apogee_error": "m", "edge": "m", "width_rad": "rad",
+                           "width_deg": "deg", "tolerance_m": "m", "band_m": "m", "lift_to_drag": "1"}
+        from aotv_cosim.campaigns.figures import corridor_plot
 
-    result["plots"] = [corridor_plot(out, result)]
-    for bound in ("steep", "shallow"):  # summary.json's convention: a non-finite number as text
-        result[bound]["points"] = [(g, e if math.isfinite(e) else str(e)) for g, e in result[bound]["points"]]
-    write_json_atomically(out / "corridor.json", result)
+        result["plots"] = [corridor_plot(out, result)]
+        for bound in ("steep", "shallow"):  # summary.json's convention: a non-finite number as text
+            result[bound]["points"] = [(g, e if math.isfinite(e) else str(e)) for g, e in result[bound]["points"]]
+        write_json_atomically(out / "corridor.json", result)
     return result
 
 
-def check_options(scenario_path, lift_to_drag: float, tolerance: float, bracket) -> None:
-    """Refuse, before any run, a non-finite or non-positive L/D or tolerance (an infinite one
-    cannot be written to corridor.json) and a bracket that is not finite or whose steep bound is
-    not below its shallow one (a reversed or empty bracket cannot hold a crossing)."""
-    if not (math.isfinite(lift_to_drag) and lift_to_drag > 0.0 and math.isfinite(tolerance) and tolerance > 0.0):
-        raise InputError(f"lift_to_drag and tolerance must be finite and positive, got {lift_to_drag!r} and "
-                         f"{tolerance!r}", file=str(scenario_path), entry="--lift-to-drag/--tolerance",
-                         fix="give L/D > 0 and a tolerance in m > 0")
-    steep, shallow = bracket
-    if not (math.isfinite(steep) and math.isfinite(shallow) and steep < shallow):
-        raise InputError(f"the bracket ({steep!r}, {shallow!r}) rad is not a finite range from steep to shallow",
-                         file=str(scenario_path), entry="--bracket",
-                         fix="give STEEP SHALLOW with STEEP < SHALLOW (rad), e.g. --bracket -0.08 -0.002")
+class _Bisection:
+    """One bound's search: the gamma0 in the bracket whose apogee error is within the tolerance of
+    `edge` (errors grow with gamma0: a shallower entry keeps more energy). `next()` gives the
+    gamma0 to fly next (None while waiting for a run, or when done), `tell(gamma0, error)` takes a
+    run's apogee error (m)."""
+
+    def __init__(self, case, path, edge, options, max_runs):
+        from aotv_cosim.campaigns.scenario_ref import ScenarioRef
+
+        self.case, self.path, self.ref, self.edge = case, path, ScenarioRef.of(path.resolve()), edge
+        self.tolerance, self.max_runs = options.tolerance, max_runs
+        self.low, self.high = options.bracket
+        self.points, self.waiting, self.result = [], [self.low, self.high], None
+
+    def next(self):
+        return self.waiting.pop(0) if self.waiting else None
+
+    def tell(self, gamma0, error) -> None:
+        self.points.append((gamma0, error))
+        if len(self.points) == 2:
+            self.points.sort()  # the bracket's ends, steep first, in whichever order their runs ended
+            (steep, low_error), (shallow, high_error) = self.points
+            if not low_error <= self.edge <= high_error:
+                raise InputError(f"{self.case}: the apogee error does not cross {self.edge:+g} m between gamma0 = "
+                                 f"{steep} and {shallow} rad ({low_error:+.6g} and {high_error:+.6g} m)",
+                                 file=self.path, entry="--bracket", fix="widen the bracket, or change --lift-to-drag")
+        elif len(self.points) > 2:
+            if abs(error - self.edge) <= self.tolerance:
+                self.result = {"gamma0": gamma0, "apogee_error": error, "edge": self.edge, "runs": len(self.points),
+                               "points": self.points}
+                return
+            self.low, self.high = (gamma0, self.high) if error < self.edge else (self.low, gamma0)
+        if len(self.points) >= 2 and self.result is None:
+            if len(self.points) >= self.max_runs:
+                raise SimulationError(f"{self.case}: no run within {self.tolerance:g} m of {self.edge:+g} m after "
+                                      f"{self.max_runs} runs (gamma0 in [{self.low!r}, {self.high!r}] rad)",
+                                      file=str(self.path), fix="the apogee error jumps there (a skip or an impact): "
+                                                               "give a larger --tolerance")
+            self.waiting.append(0.5 * (self.low + self.high))
 
 
-def _apogee_error(runner, signal, gamma0) -> float:
-    """The apogee error (m) of the pass entered at gamma0: -inf if it never exits or impacts,
-    +inf if the exit orbit is unbound; SimulationError if the run fails."""
-    row = runner.run(0, {signal: gamma0})
+def _search(searches: dict, signal, options, scenario) -> dict:
+    """{bound: result} of the `_Bisection`s, their runs made on the options' backend."""
+    from aotv_cosim.campaigns import backends
+    from aotv_cosim.campaigns.worker import columns
+
+    backend = backends.opened(options, options.step_limit(scenario), columns(scenario))
+    interrupted = True
+    try:
+        asked = {}
+
+        def ask(bound):
+            gamma0 = searches[bound].next()
+            while gamma0 is not None:
+                run = len(asked)
+                asked[run] = (bound, gamma0)
+                backend.submit(searches[bound].ref, [(run, {signal: gamma0})])
+                gamma0 = searches[bound].next()
+
+        for bound in searches:
+            ask(bound)
+        while backend.pending:
+            for _, rows in backend.finished():
+                for row in rows:
+                    bound, gamma0 = asked[row["run"]]
+                    searches[bound].tell(gamma0, _apogee_error(row, signal, gamma0, searches[bound].path))
+                    ask(bound)
+        interrupted = False
+    finally:
+        backend.close(interrupted)
+    return {bound: search.result for bound, search in searches.items()}
+
+
+def _apogee_error(row, signal, gamma0, path) -> float:
+    """The apogee error (m) of the run `row` entered at gamma0: -inf if it never exits or impacts,
+    +inf if the exit orbit is unbound; SimulationError if the run failed."""
     if row["status"] not in (Status.COMPLETED, Status.IMPACT):
-        raise SimulationError(f"the run at {signal} = {gamma0!r} rad failed: {row['error']}",
-                              file=str(runner.scenario.path), fix="see the error; narrow --bracket")
+        raise SimulationError(f"the run at {signal} = {gamma0!r} rad failed: {row['error']}", file=str(path),
+                              fix="see the error; narrow --bracket")
     error = float(row["outcome.apogee_error"])
     return -math.inf if row["outcome"] == "impact" or math.isnan(error) else error
-
-
-def _bisect(error_of, edge, tolerance, bracket, max_runs, case, path) -> dict:
-    """gamma0 in `bracket` whose apogee error is within tolerance of `edge` (errors grow with
-    gamma0: a shallower entry keeps more energy)."""
-    steep, shallow = bracket
-    points = [(steep, error_of(steep)), (shallow, error_of(shallow))]
-    if not points[0][1] <= edge <= points[1][1]:
-        raise InputError(f"{case}: the apogee error does not cross {edge:+g} m between gamma0 = {steep} and "
-                         f"{shallow} rad ({points[0][1]:+.6g} and {points[1][1]:+.6g} m)", file=path,
-                         entry="--bracket", fix="widen the bracket, or change --lift-to-drag")
-    low, high = steep, shallow
-    while len(points) < max_runs:
-        middle = 0.5 * (low + high)
-        error = error_of(middle)
-        points.append((middle, error))
-        if abs(error - edge) <= tolerance:
-            return {"gamma0": middle, "apogee_error": error, "edge": edge, "runs": len(points), "points": points}
-        low, high = (middle, high) if error < edge else (low, middle)
-    raise SimulationError(f"{case}: no run within {tolerance:g} m of {edge:+g} m after {max_runs} runs "
-                          f"(gamma0 in [{low!r}, {high!r}] rad)", file=str(path),
-                          fix="the apogee error jumps there (a skip or an impact): give a larger --tolerance")

@@ -159,7 +159,7 @@ def sweep_plot(out_dir, rows, parameters, units, outcome_settings) -> str:
         ax.plot(x[finite], y[finite], "-", color="0.7", lw=1, zorder=1)
         ax.scatter(x[finite], y[finite], c=[c for c, f in zip(colors, finite) if f], s=22, zorder=2)
         if name == "outcome.apogee_error" and outcome_settings is not None:
-            band = float(outcome_settings.get("band", 10e3)) * factor
+            band = outcome_settings.band * factor
             ax.axhspan(-band, band, color="tab:green", alpha=0.15, zorder=0, label="capture band")
             ax.legend(fontsize=7)
         ax.set_xlabel(label(x_name, units), fontsize=8)

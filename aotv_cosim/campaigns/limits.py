@@ -27,8 +27,7 @@ def of_set(loaded) -> dict:
     InputError when two differ."""
     found, first = {}, None
     for path, scenario in loaded:
-        outcome = scenario.outcome or {}
-        limits = dict(outcome.get("limits", {}))
+        limits = scenario.outcome.limits.stated() if scenario.outcome is not None else {}
         if first is None:
             first, found = path, limits
         elif limits != found:

@@ -39,9 +39,6 @@ POLL = 0.2
 """Seconds between two looks at the workers' steps and memory, and at the interruption flag."""
 DEPTH = 2
 """Tasks a worker holds: the one under way and the next."""
-DEFAULT_MAX_RSS = 2048 * 2**20
-"""Resident memory a campaign worker may use, bytes (2 GiB; a worker running the shipped laws holds
-about 150-250 MiB)."""
 _PAGE = os.sysconf("SC_PAGE_SIZE") if hasattr(os, "sysconf") else 4096
 
 
@@ -148,7 +145,7 @@ class WorkerPool:
     max_rss (bytes, None: no limit) are the limits a busy worker is held to."""
 
     def __init__(self, max_workers, mp_context, initializer=None, initargs=(), finalizer=None,
-                 step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss=DEFAULT_MAX_RSS):
+                 step_limit=watchdog.CAMPAIGN_STEP_TIMEOUT, max_rss=None):
         self.size, self.context = max_workers, mp_context
         self.start_args = (initializer, initargs, finalizer)
         self.step_limit, self.max_rss = step_limit, max_rss
@@ -164,18 +161,17 @@ class WorkerPool:
         self.queue.append(task)
         return task
 
-    def completed(self, tasks):
-        """Yield `tasks` as they finish; raise Interrupted within POLL s of a SIGINT/SIGTERM."""
-        pending = set(tasks)
-        while pending:
-            self.poll(POLL)
+    def wait_any(self) -> list:
+        """The tasks finished since the last call, waiting for at least one while any is queued or
+        under way; raise Interrupted within POLL s of a SIGINT/SIGTERM."""
+        while True:
             if interrupts.received():
                 raise Interrupted(interrupts.name())
-            while self.finished:
-                task = self.finished.popleft()
-                if task in pending:
-                    pending.remove(task)
-                    yield task
+            if self.finished or not (self.queue or any(w.tasks for w in self.workers)):
+                done = list(self.finished)
+                self.finished.clear()
+                return done
+            self.poll(POLL)
 
     def poll(self, timeout):
         """Give queued tasks to idle workers, wait up to `timeout` s for an answer, collect the
@@ -190,10 +186,11 @@ class WorkerPool:
 
     def _dispatch(self):
         """Send queued tasks to the workers holding fewer than DEPTH, the least loaded first,
-        starting workers up to `size` (a worker found dead meanwhile is given up: its tasks go back
-        to the queue, and `_collect` says why if it was running one)."""
+        starting workers up to `size` while none is idle (a worker found dead meanwhile is given up:
+        its tasks go back to the queue, and `_collect` says why if it was running one)."""
         while self.queue:
-            if len(self.workers) < self.size:
+            idle = [w for w in self.workers if not w.tasks]
+            if not idle and len(self.workers) < self.size:  # a new worker only when none is idle
                 self.workers.append(_Worker(self.context, *self.start_args))
             worker = min(self.workers, key=lambda w: len(w.tasks))
             if len(worker.tasks) >= DEPTH:

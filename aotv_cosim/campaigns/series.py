@@ -12,10 +12,10 @@ from pathlib import Path
 from aotv_cosim.output.series import TIME_UNIT
 
 
-def write_series(out: Path, series: dict, scenario, ref, make_plots) -> list:
+def write_series(out: Path, series: dict, scenario, ref, options, make_plots) -> list:
     """Write series.parquet from {run: {"time": [...], signal: [...]}} (merged with the file a
     resumed campaign left); returns the plot files written. `scenario`: the campaign's, loaded
-    from `ref` (`scenario_ref.ScenarioRef`)."""
+    from `ref` (`scenario_ref.ScenarioRef`), flown with the campaign's `options`."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -38,10 +38,10 @@ def write_series(out: Path, series: dict, scenario, ref, make_plots) -> list:
     tmp = path.with_name(path.name + ".part")
     pq.write_table(pa.table(columns, schema=schema), tmp)
     tmp.replace(path)
-    vehicle = (scenario.outcome or {}).get("vehicle", "vehicle")
+    vehicle = scenario.outcome.vehicle if scenario.outcome is not None else "vehicle"
     if not make_plots or not {f"{vehicle}.h", f"{vehicle}.v"} <= set(signals):
         return []
-    nominal = Runner(ref, keep_series=True).run(-1, {}).get("series", {})
+    nominal = Runner(ref, options).run(-1, {}).get("series", {})
     return [trajectories(out, [series[k] for k in runs], nominal, vehicle)]
 
 

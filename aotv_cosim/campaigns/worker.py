@@ -1,8 +1,9 @@
 """One worker's side of a campaign: the scenario loaded once, FMUs reused, runs turned into rows.
 
-A worker process keeps one `Runner` per `ScenarioRef` (scenario file, --set values, times) and per thread, so the
-FMUs are instantiated once per worker and only reset (fmi2Reset) between runs. A row holds no
-timing, so the same run gives the same row on any worker and backend.
+A worker process keeps one `Runner` per `ScenarioRef` (scenario file, --set values, times), per
+options object (the command's whole `options.RunsOptions`, as the parent made it) and per thread,
+so the FMUs are instantiated once per worker and only reset (fmi2Reset) between runs. A row holds
+no timing, so the same run gives the same row on any worker and backend.
 """
 
 import math
@@ -12,8 +13,9 @@ import numpy as np
 
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.mission import outcome_rows
+from aotv_cosim.options import RunsOptions
+from aotv_cosim.output.runner import attach_fmu_log, numeric_columns
 from aotv_cosim.simulation.master import Master
-from aotv_cosim.output.runner import numeric_columns
 from aotv_cosim.status import Status
 
 _LOCAL = threading.local()
@@ -73,24 +75,26 @@ class _Extrema:
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, ref: ScenarioRef, keep_series=False, step_limit=None, fmi_calls=None):
-        """keep_series: keep each run's recorded signals, decimated (`SERIES_POINTS`); step_limit:
-        the campaign's wall-clock limit per step, s (`simulation.watchdog`; None: the scenario's);
-        fmi_calls: how the master calls the FMUs ("c" or "direct", `simulation.master`; None: its
-        default)."""
+    def __init__(self, ref: ScenarioRef, options: RunsOptions = None):
+        """options: the command's options (None: the defaults of `RunsOptions`), of which a runner
+        uses `keep_series` (keep each run's recorded signals, decimated to `SERIES_POINTS`),
+        `step_limit` (the wall-clock limit per step, `simulation.watchdog`) and `fmi_calls` (how
+        the master calls the FMUs, `simulation.master`)."""
+        options = options if options is not None else RunsOptions()
         self.scenario = ref.load()
-        if step_limit is not None:
-            self.scenario.step_timeout = step_limit
-        self.spacing = (self.scenario.stop - self.scenario.start) / SERIES_POINTS if keep_series else None
+        self.scenario.step_timeout = options.step_limit(self.scenario)
+        self.spacing = (self.scenario.stop - self.scenario.start) / SERIES_POINTS if options.keep_series else None
         self.signals = numeric_columns(self.scenario)
         self.columns = columns(self.scenario)
         self.pool = {}
-        self.fmi_calls = fmi_calls
+        self.fmi_calls = options.fmi_calls
 
     def run(self, run: int, values: dict) -> dict:
         """The row of one run with the dispersed `values` ({'comp.var': value}), classified when
         the scenario asks for outcomes; with keep_series, its decimated recorded signals under
-        "series" (not a column: the campaign writes them to series.parquet)."""
+        "series" (not a column: the campaign writes them to series.parquet); when an FMU's Python
+        code raised, {"traceback", "source"} under "failure" (`output.tracebacks`; not a column:
+        the campaign writes it to failures.jsonl)."""
         row = self._run(run, values)
         if self.scenario.outcome is not None:
             row.update(outcome_rows.outcome_columns(row, self.scenario.outcome))
@@ -109,6 +113,10 @@ class Runner:
             return row
         row.update(status=outcome.status, error=outcome.error or "", steps=outcome.steps,
                    end_time=extrema.time)
+        if outcome.error_detail:
+            attach_fmu_log(outcome, master, self.scenario.system)
+            if outcome.error_detail.get("traceback"):
+                row["failure"] = {key: outcome.error_detail.get(key) for key in ("traceback", "source")}
         if self.spacing is not None:
             row["series"] = extrema.kept()
         if extrema.last is not None:
@@ -122,26 +130,25 @@ class Runner:
         return row
 
 
-def runner(ref: ScenarioRef, keep_series=False, step_limit=None, fmi_calls=None) -> Runner:
-    """This thread's Runner for the scenario (made on first use)."""
-    key = (ref, keep_series, step_limit, fmi_calls)
+def runner(ref: ScenarioRef, options: RunsOptions) -> Runner:
+    """This thread's Runner for the scenario and options (made on first use)."""
     cache = getattr(_LOCAL, "runners", None)
     if cache is None:
         cache = _LOCAL.runners = {}
-    if key not in cache:
-        cache[key] = Runner(ref, keep_series, step_limit, fmi_calls)
-    return cache[key]
+    if (ref, options) not in cache:
+        cache[ref, options] = Runner(ref, options)
+    return cache[ref, options]
 
 
-def run_batch(ref: ScenarioRef, batch, keep_series=False, fmi_calls=None) -> list:
+def run_batch(ref: ScenarioRef, options: RunsOptions, batch) -> list:
     """Rows of a batch [(run, values), ...] (the task sent to a Dask worker)."""
-    r = runner(ref, keep_series, fmi_calls=fmi_calls)
+    r = runner(ref, options)
     return [r.run(run, values) for run, values in batch]
 
 
-def run_one(ref: ScenarioRef, run, values, step_limit=None, keep_series=False, fmi_calls=None) -> dict:
+def run_one(ref: ScenarioRef, options: RunsOptions, run, values) -> dict:
     """The row of one run (the task sent to a local worker)."""
-    return runner(ref, keep_series, step_limit, fmi_calls).run(run, values)
+    return runner(ref, options).run(run, values)
 
 
 def release() -> None:

@@ -1,8 +1,8 @@
 """Outcome columns of a campaign row: each run classified by `outcome.classify`.
 
-A scenario asks for them with `"montecarlo": {"outcome": {...}}` (target_apogee, band and floor in
-m, default the seed-000 criteria of `CaptureCriteria.seed000`; the vehicle and actuator component
-names). The row's own final/min/max/exit values are what is classified (`record_from_row`), so the
+A scenario asks for them with `"montecarlo": {"outcome": {...}}`, read once into its typed settings
+(`model.outcome_settings.OutcomeSettings`: `criteria`, the vehicle and actuator component names),
+which every function here takes as `settings`. The row's own final/min/max/exit values are what is classified (`record_from_row`), so the
 scenario records the vehicle's h, v and gamma (and heat_load for the heat-load column). A run that
 reaches the ground is stopped there by the master's range watch on h (status impact) and
 classified impact.
@@ -10,8 +10,12 @@ classified impact.
 
 import math
 
-from aotv_cosim.mission.outcome import (CaptureCriteria, RunOutcome, classify, record_from_row,
-                                           record_from_summary)
+from aotv_cosim.mission.outcome import (
+    RunOutcome,
+    classify,
+    record_from_row,
+    record_from_summary,
+)
 
 CLASS, REASON = "outcome", "outcome.reason"
 """The class column (one of outcome.OUTCOMES) and the text saying why."""
@@ -27,32 +31,25 @@ REQUIRED = ("h", "v", "gamma")
 """The vehicle signals the scenario must record for its runs to be classified."""
 
 
-def criteria(settings: dict) -> CaptureCriteria:
-    """CaptureCriteria of a scenario's `montecarlo.outcome` settings (seed-000 defaults)."""
-    base = CaptureCriteria.seed000(band=float(settings.get("band", 10e3)),
-                                   floor=float(settings.get("floor", 60e3)))
-    if "target_apogee" in settings:
-        return CaptureCriteria(float(settings["target_apogee"]), base.band, base.floor)
-    return base
-
-
-def outcome_columns(row: dict, settings: dict) -> dict:
-    """{column: value} of UNITS for one finished row (the class and its metrics)."""
-    c = criteria(settings)
-    record = record_from_row(row, c, settings.get("vehicle", "vehicle"), settings.get("actuator", "actuator"))
+def outcome_columns(row: dict, settings) -> dict:
+    """{column: value} of UNITS for one finished row (the class and its metrics); `settings`: the
+    scenario's `OutcomeSettings`."""
+    c = settings.criteria
+    record = record_from_row(row, c, settings.vehicle, settings.actuator)
     result: RunOutcome = classify(record, c)
     values = result.as_dict()
     values[CLASS] = values.pop("outcome.outcome")
     return {name: values[name] for name in UNITS}
 
 
-def run_outcome(summary: dict, settings: dict) -> dict:
+def run_outcome(summary: dict, settings) -> dict:
     """The outcome of a single run from its summary (`record_from_summary`), as a campaign row
     would give it: {"class", "reason", "apogee", "perigee", "apogee_error", "dv_circ", "dv_total",
     ..., "units": {metric: SI unit}}; a non-finite metric is written "nan" (not provided by the
-    run) or "inf" (unbound exit orbit), as summary.json writes every non-finite value."""
-    c = criteria(settings)
-    record = record_from_summary(summary, c, settings.get("vehicle", "vehicle"), settings.get("actuator", "actuator"))
+    run) or "inf" (unbound exit orbit), as summary.json writes every non-finite value.
+    `settings`: the scenario's `OutcomeSettings`."""
+    c = settings.criteria
+    record = record_from_summary(summary, c, settings.vehicle, settings.actuator)
     values = classify(record, c).as_dict(prefix="")
     result = {"class": values.pop("outcome"), "reason": values.pop("reason")}
     result.update({k: v if math.isfinite(v) else str(v) for k, v in values.items()})

@@ -4,18 +4,18 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from aotv_cosim.errors import InputError, raise_if_any
+from aotv_cosim.model.capabilities import check_capabilities, default_experiment
 from aotv_cosim.model.dispersion_sets import dispersion_entries
 from aotv_cosim.model.documents import load_document
-from aotv_cosim.errors import InputError, raise_if_any
-from aotv_cosim.model.step_control import StepControl, step_control
-from aotv_cosim.paths import regular_file, resolved
 from aotv_cosim.model.fmu_file import FmuResolver
-from aotv_cosim.model.system import System, load_system
+from aotv_cosim.model.outcome_settings import OutcomeSettings, outcome_settings
 from aotv_cosim.model.ranges import check_dispersion
-from aotv_cosim.model.capabilities import check_capabilities, default_experiment
-from aotv_cosim.model.variable_types import DISCRETE, enumeration_value
 from aotv_cosim.model.run_size import check_run_size
-
+from aotv_cosim.model.step_control import StepControl, step_control
+from aotv_cosim.model.system import System, load_system
+from aotv_cosim.model.variable_types import DISCRETE, enumeration_value
+from aotv_cosim.paths import regular_file, resolved
 
 MAX_STEPS = 1e9
 """Most communication points a scenario may ask for: more is a typing error (a step in ms, not s)."""
@@ -101,8 +101,8 @@ class Scenario:
     """Error-controlled steps (`model.step_control`); None: the fixed step `step`."""
     dispersions: list = field(default_factory=list)
     scatter: list = field(default_factory=list)
-    outcome: "dict | None" = None
-    """Campaign outcome settings (`campaigns.outcome_rows`): runs are classified when given."""
+    outcome: "OutcomeSettings | None" = None
+    """Campaign outcome settings (`model.outcome_settings`): runs are classified when given."""
     report_columns: list = field(default_factory=list)
     """Campaign columns of the report's table and histograms (`campaigns.report`)."""
     versus: list = field(default_factory=list)
@@ -165,7 +165,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: Fm
         dispersions=[Dispersion(signal, d["distribution"], d.get("mean"), d.get("std"), d.get("low"),
                                 d.get("high")) for signal, d in dispersion_entries(doc, path).items()],
         scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
-        outcome=doc.get("montecarlo", {}).get("outcome"),
+        outcome=_outcome(doc, system, path),
         report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
         step_timeout=doc.get("step_timeout"),
@@ -175,6 +175,12 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: Fm
     _check_signals(scenario, doc)
     scenario.expectations = [_enumerated(scenario.system, e) for e in scenario.expectations]
     return scenario
+
+
+def _outcome(doc, system, path) -> "OutcomeSettings | None":
+    """The scenario's typed outcome settings, or None when it does not classify its runs."""
+    given = doc.get("montecarlo", {}).get("outcome")
+    return None if given is None else outcome_settings(given, list(system.components), path)
 
 
 def _enumerated(system, e: Expectation) -> Expectation:
@@ -300,7 +306,7 @@ def _check_signals(s: Scenario, doc):
     for k, signal in enumerate(s.scatter):
         check(signal, f"montecarlo.scatter[{k}]", NUMERIC, "a scatter plot")
     if s.outcome is not None:
-        vehicle = s.outcome.get("vehicle", "vehicle")
+        vehicle = s.outcome.vehicle
         missing = [f"{vehicle}.{n}" for n in ("h", "v", "gamma") if f"{vehicle}.{n}" not in s.record]
         if missing:
             problems.append(InputError(f"classifying runs needs {', '.join(missing)} recorded", file=s.path,

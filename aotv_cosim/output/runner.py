@@ -7,16 +7,21 @@ from typing import NamedTuple
 import numpy as np
 
 from aotv_cosim import __version__
-from aotv_cosim.simulation import interrupts
+from aotv_cosim.model.variable_types import Decoder
 from aotv_cosim.output import plausibility, plots
-from aotv_cosim.errors import InputError
-from aotv_cosim.simulation.master import Master, signals_to_read
 from aotv_cosim.output.outdir import claimed
-from aotv_cosim.output.run_files import (OutputError, TimeSeriesWriter, evaluate_expectations, statistics,
-                                       write_json_atomically)
+from aotv_cosim.output.run_files import (
+    OutputError,
+    TimeSeriesWriter,
+    evaluate_expectations,
+    statistics,
+    write_json_atomically,
+)
 from aotv_cosim.output.series import SeriesTable, units_of, write_parquet
 from aotv_cosim.output.summary import RunSummary
-from aotv_cosim.model.variable_types import Decoder
+from aotv_cosim.output.tracebacks import user_source
+from aotv_cosim.simulation import interrupts
+from aotv_cosim.simulation.master import Master, signals_to_read
 from aotv_cosim.status import Status
 
 FORMATS = ("csv", "parquet")
@@ -62,11 +67,8 @@ def write_run(scenario, out_dir, progress=None, make_plots=True, formats=("csv",
     (`outdir.claimed`: InputError if unusable or busy). A result file that cannot be written
     fails the run (`OutputError` in the summary); if summary.json itself cannot be written, that
     OutputError is raised. An interrupted run or one whose output failed draws no plots.
-    fmi_calls: how the master calls the FMUs (`master.FMI_CALLS`, default its default)."""
-    unknown = [f for f in formats if f not in FORMATS]
-    if unknown or not formats:
-        raise InputError(f"unknown time series format(s) {', '.join(map(repr, unknown)) or '(none given)'}",
-                         entry="formats", fix="give csv and/or parquet")
+    fmi_calls: how the master calls the FMUs (`master.FMI_CALLS`, default its default). `formats`
+    and `fmi_calls` are checked by the caller's options (`options.RunOptions`)."""
     out_dir = Path(out_dir)
     with claimed(out_dir):
         return _write_into(scenario, out_dir, progress, make_plots, formats, fmi_calls)
@@ -126,7 +128,7 @@ def _simulate(scenario, open_series, progress, fmi_calls):
         decoder = Decoder({c: k for c, k in types.items() if k != "Real"}, master.strings.texts)
     series = _Series(open_series, columns, master, decoder)
     outcome = master.run(series)
-    _attach_fmu_log(outcome, master)
+    attach_fmu_log(outcome, master, scenario.system)
     writer = series.writer
     try:
         if writer is None:  # failed before the first row: still leave a readable, empty series
@@ -171,7 +173,9 @@ def _simulate(scenario, open_series, progress, fmi_calls):
         from aotv_cosim.mission.outcome_rows import run_outcome
 
         summary.outcome = run_outcome(summary.as_json(), scenario.outcome)
-    summary.warnings += plausibility.run_warnings(scenario, summary)
+    # a failed or interrupted run says nothing of its physics: only the values given are judged then
+    summary.warnings += plausibility.run_warnings(scenario, summary) \
+        if summary.status not in (Status.FAILED, Status.INTERRUPTED) else plausibility.unit_slips(scenario.system)
     return Run(summary, columns, times, rows, decoder)
 
 
@@ -182,9 +186,10 @@ def _output_failed(outcome, exc):
         outcome.error_detail = {"component": None, "variable": None, "time": None, "message": exc.cause}
 
 
-def _attach_fmu_log(outcome, master):
-    """Add the failing component's log messages ('status: text', oldest first) to error_detail, and
-    the last Python traceback it logged, lines kept, as error_detail["traceback"]."""
+def attach_fmu_log(outcome, master, system):
+    """Add the failing component's log messages ('status: text', oldest first) to error_detail, the
+    last Python traceback it logged, lines kept, as error_detail["traceback"], and, when the
+    component is a user's .py source, its full path as error_detail["source"] (`tracebacks`)."""
     detail = outcome.error_detail
     instance = master.instances.get(detail.get("component")) if detail else None
     if instance is not None:
@@ -192,6 +197,9 @@ def _attach_fmu_log(outcome, master):
         tracebacks = [text for _, text in instance.messages if "Traceback (most recent call last)" in text]
         if tracebacks:  # an exception in the FMU's Python code, logged by AotvSlave: keep its lines
             detail["traceback"] = tracebacks[-1].strip()
+            source = user_source(system, detail.get("component"))
+            if source is not None:
+                detail["source"] = str(source)
 
 
 def _warnings(scenario, outcome):

@@ -16,6 +16,7 @@ from click.testing import CliRunner
 
 from aotv_cosim.campaigns import benchmark
 from aotv_cosim.campaigns.benchmark import run_benchmark
+from aotv_cosim.options import BenchmarkOptions
 from aotv_cosim.campaigns.benchmark_report import PANELS
 from aotv_cosim.cli import main
 from aotv_cosim.errors import InputError
@@ -86,11 +87,11 @@ def test_a_law_that_does_not_classify_or_records_other_columns_is_refused_before
     doc["record"] = doc["record"][:-1]
     write_json(folder / "time_linear.json", doc)
     with pytest.raises(InputError, match="time_linear.json: record: its campaign columns differ from those of robust"):
-        run_benchmark(folder, 2, tmp_path / "o", progress=False)
+        run_benchmark(BenchmarkOptions(scenario_set=folder, runs=2, out=tmp_path / "o"))
     del doc["montecarlo"]["outcome"]
     write_json(folder / "time_linear.json", doc)
     with pytest.raises(InputError, match="montecarlo: the scenario does not classify its runs"):
-        run_benchmark(folder, 2, tmp_path / "o", progress=False)
+        run_benchmark(BenchmarkOptions(scenario_set=folder, runs=2, out=tmp_path / "o"))
     assert not (tmp_path / "o").exists()
 
 
@@ -109,12 +110,13 @@ def test_one_law_benchmark_flies_the_law_and_reuses_the_stored_rows_of_the_other
               for law in ("time_linear", "my_law")}
     assert repr(by_law["my_law"]) == repr(by_law["time_linear"])
     flown = sorted((tmp_path / "o").iterdir())
-    again = run_benchmark(folder, 3, tmp_path / "o", laws=[mine], progress=False)
+    again = run_benchmark(BenchmarkOptions(scenario_set=folder, runs=3, out=tmp_path / "o", laws=[mine]))
     assert {law: info["reused"] for law, info in again["laws"].items()} == {
         "robust": True, "time_linear": True, "my_law": True}
     assert repr(pq.read_table(tmp_path / "o" / "rows.parquet").to_pylist()) == repr(rows)
     assert sorted((tmp_path / "o").iterdir()) == flown
-    other_n = run_benchmark(folder / "robust.json", 2, tmp_path / "o2", laws=[mine], progress=False)
+    other_n = run_benchmark(BenchmarkOptions(scenario_set=folder / "robust.json", runs=2, out=tmp_path / "o2",
+                                             laws=[mine]))
     assert [c["law"] for c in other_n["scorecard"]] == ["robust", "my_law"]
     assert not any(info["reused"] for info in other_n["laws"].values())  # N changed: flown
     assert (tmp_path / "o2" / "my_law" / "rows.parquet").is_file()
@@ -125,7 +127,7 @@ def test_a_law_named_like_one_of_the_set_is_refused(tmp_path):
     folder = _small_set(tmp_path / "set", ["time_linear"])
     clash = write_json(tmp_path / "time_linear.json", json.loads((SCENARIOS / "systems" / "aotv_robust.json").read_text()))
     with pytest.raises(InputError, match="a law named 'time_linear' is already in the set"):
-        run_benchmark(folder, 2, tmp_path / "o", laws=[clash], progress=False)
+        run_benchmark(BenchmarkOptions(scenario_set=folder, runs=2, out=tmp_path / "o", laws=[clash]))
 
 
 def _free_port():
@@ -153,7 +155,8 @@ def _cluster_rows(folder, runs, out):
             client.wait_for_workers(2, timeout=120)
             pids = set(client.run(os.getpid).values())
             assert len(pids) == 2 and os.getpid() not in pids  # two real worker processes
-        result = run_benchmark(folder, runs, out, seed=11, scheduler=address, progress=False, reuse=False)
+        result = run_benchmark(BenchmarkOptions(scenario_set=folder, runs=runs, out=out, seed=11, scheduler=address,
+                                                reuse=False))
         assert all(card["cpu_per_run"] is None for card in result["scorecard"])  # not seen from here
         return pq.read_table(out / "rows.parquet").to_pylist()
     finally:
@@ -168,9 +171,10 @@ def _cluster_rows(folder, runs, out):
 
 def _local_and_cluster(tmp_path, laws, runs):
     folder = _small_set(tmp_path / "set", laws)
-    run_benchmark(folder, runs, tmp_path / "local", workers=2, seed=11, progress=False)
+    run_benchmark(BenchmarkOptions(scenario_set=folder, runs=runs, out=tmp_path / "local", workers=2, seed=11))
     local = pq.read_table(tmp_path / "local" / "rows.parquet").to_pylist()
-    run_benchmark(folder, runs, tmp_path / "one", workers=1, seed=11, progress=False, reuse=False)
+    run_benchmark(BenchmarkOptions(scenario_set=folder, runs=runs, out=tmp_path / "one", workers=1, seed=11,
+                                   reuse=False))
     assert repr(pq.read_table(tmp_path / "one" / "rows.parquet").to_pylist()) == repr(local)  # 1 = 2 workers
     cluster = _cluster_rows(folder, runs, tmp_path / "dask")
     assert repr(local) == repr(cluster)  # every value the same (repr: nan equals nan)

@@ -7,6 +7,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from aotv_cosim.campaigns import run_campaign
+from aotv_cosim.options import CampaignOptions
 from aotv_cosim.mission.outcome_rows import UNITS, counts
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import Runner
@@ -52,7 +53,7 @@ def test_outcomes_in_rows_files_summary_and_units(tmp_path):
     doc["system"] = str((CAMPAIGN.parent / doc["system"]).resolve())
     doc["dispersions"]["atmosphere.rho_ref"].update(low=0.9, high=3.0)  # wide: several classes
     path = write_json(tmp_path / "wide.json", doc)
-    summary = run_campaign(path, 6, tmp_path / "out", seed=3, progress=False, make_plots=False)
+    summary = run_campaign(CampaignOptions(scenario=path, runs=6, out=tmp_path / "out", seed=3, plots=False))
     table = pq.read_table(tmp_path / "out" / "rows.parquet")
     classes = table.column("outcome").to_pylist()
     assert set(classes) >= {"skip_out", "undershoot"}

@@ -8,6 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 from aotv_cosim.campaigns import run_campaign
+from aotv_cosim.options import CampaignOptions
 from aotv_cosim.campaigns.report import console_table, three_sigma
 from aotv_cosim.cli import main
 from aotv_cosim.errors import InputError
@@ -70,5 +71,5 @@ def test_chosen_columns_in_summary_report_and_histograms(tmp_path, drawn):
 def test_unknown_report_column_is_refused_before_any_run(tmp_path):
     path = _scenario(tmp_path, columns=["max.vehicle.nope"])
     with pytest.raises(InputError, match="'max.vehicle.nope' is not a campaign column"):
-        run_campaign(path, 2, tmp_path / "o", progress=False)
+        run_campaign(CampaignOptions(scenario=path, runs=2, out=tmp_path / "o"))
     assert not (tmp_path / "o" / "rows.csv").exists()

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from aotv_cosim.campaigns import run_campaign
+from aotv_cosim.options import CampaignOptions
 from aotv_cosim.simulation import watchdog
 from tests.helpers import SCENARIOS, start_process, write_json
 from tests.helper_fmus.misbehaving import build_misbehaving
@@ -74,8 +75,8 @@ def test_every_misbehaviour_is_a_failed_row_and_the_campaign_goes_on(misbehaving
         "system": str(wiring), "stop": 5.0, "step": 0.1, "record": ["mis.y"],
         "dispersions": {"mis.choice": {"distribution": "uniform", "low": 0.0, "high": 0.3}}})
     t0 = time.monotonic()
-    summary = run_campaign(scenario, 12, tmp_path / "out", workers=2, seed=0, progress=False, make_plots=False,
-                           step_timeout=LIMIT, max_rss=MAX_RSS_MIB * 2**20)
+    summary = run_campaign(CampaignOptions(scenario=scenario, runs=12, out=tmp_path / "out", workers=2, seed=0,
+                                           plots=False, step_timeout=LIMIT, max_rss=MAX_RSS_MIB))
     rows = _rows(tmp_path / "out")
     assert [int(r["run"]) for r in rows] == list(range(12))
     kinds = {_check_row(r, 0.5, LIMIT) for r in rows}
@@ -86,8 +87,8 @@ def test_every_misbehaviour_is_a_failed_row_and_the_campaign_goes_on(misbehaving
     # as if interrupted after 5 rows: --resume runs the other 7 to the same rows
     whole = (tmp_path / "out" / "rows.csv").read_text()
     (tmp_path / "out" / "rows.csv").write_text("".join(whole.splitlines(keepends=True)[:6]))
-    summary = run_campaign(scenario, 12, tmp_path / "out", workers=2, seed=0, progress=False, make_plots=False,
-                           resume=True, step_timeout=LIMIT, max_rss=MAX_RSS_MIB * 2**20)
+    summary = run_campaign(CampaignOptions(scenario=scenario, runs=12, out=tmp_path / "out", workers=2, seed=0,
+                                           plots=False, resume=True, step_timeout=LIMIT, max_rss=MAX_RSS_MIB))
     assert summary["runs_this_session"] == 7 and summary["status"] == "completed"
     assert (tmp_path / "out" / "rows.csv").read_text() == whole
     assert not multiprocessing.active_children()
@@ -112,6 +113,7 @@ def test_a_benchmark_goes_on_past_crashing_runs(misbehaving, tmp_path):
     """A set of two laws, one crashing in its runs (choice in [0.10, 0.15): SIGSEGV or abort), the
     other not: the first law's runs are failed rows with their causes, the second's all complete."""
     from aotv_cosim.campaigns.benchmark import run_benchmark
+    from aotv_cosim.options import BenchmarkOptions
 
     systems = tmp_path / "set" / "systems"
     systems.mkdir(parents=True)
@@ -120,7 +122,8 @@ def test_a_benchmark_goes_on_past_crashing_runs(misbehaving, tmp_path):
     base["dispersions"]["mis.choice"] = {"distribution": "uniform", "low": 0.10, "high": 0.15}
     for law, kind in (("misbehaving", -1), ("behaving", 0)):
         write_json(tmp_path / "set" / f"{law}.json", {**base, "parameters": {"mis.kind": kind}})
-    result = run_benchmark(tmp_path / "set", 3, tmp_path / "out", workers=2, seed=1, progress=False)
+    result = run_benchmark(BenchmarkOptions(scenario_set=tmp_path / "set", runs=3, out=tmp_path / "out", workers=2,
+                                            seed=1))
     bad = _rows(tmp_path / "out" / "misbehaving")
     assert {_check_row(r, 100.0, STRESS_LIMIT) for r in bad} == {3, 4} and len(bad) == 3
     assert all(r["status"] == "failed" and r["outcome"] == "failed" for r in bad)

@@ -13,6 +13,7 @@ import pytest
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.campaigns import run_campaign
+from aotv_cosim.options import CampaignOptions
 from aotv_cosim.campaigns.draws import draw
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.statistics import ellipse_3sigma
@@ -30,7 +31,7 @@ def _rows(out):
 @pytest.fixture(scope="module")
 def local_20(tmp_path_factory):
     out = tmp_path_factory.mktemp("local")
-    summary = run_campaign(CAMPAIGN, 20, out, workers=2, seed=7, progress=False)
+    summary = run_campaign(CampaignOptions(scenario=CAMPAIGN, runs=20, out=out, workers=2, seed=7))
     return summary, out
 
 
@@ -61,8 +62,8 @@ def test_dask_local_cluster_gives_identical_rows(local_20, tmp_path):
     _, local_out = local_20
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
-        summary = run_campaign(CAMPAIGN, 20, tmp_path, seed=7, scheduler=client, progress=False,
-                               make_plots=False)
+        summary = run_campaign(CampaignOptions(scenario=CAMPAIGN, runs=20, out=tmp_path, seed=7, scheduler=client,
+                                               plots=False))
     assert summary["backend"] == "dask"
     assert _rows(tmp_path) == _rows(local_out)
 
@@ -77,7 +78,8 @@ def test_dask_cluster_without_workers_fails_instead_of_waiting():
     from aotv_cosim.errors import SimulationError
 
     with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster, Client(cluster) as client:
-        rows = backends.dask(ScenarioRef.of(CAMPAIGN), [[(0, {})]], client, ["run"], patience=1.0)
+        backend = backends.Dask(CampaignOptions(scenario=CAMPAIGN, runs=1, scheduler=client), ["run"], patience=1.0)
+        rows = backends.stream(backend, ScenarioRef.of(CAMPAIGN), [(0, {})], 1)
         with pytest.raises(SimulationError, match="no worker for 1 s with 1 batch"):
             list(rows)
 
@@ -119,8 +121,8 @@ def test_resume_skips_finished_runs_and_ends_with_the_same_rows(local_20, tmp_pa
     # an interrupted campaign: runs 0-4 and 9 written, then a line cut short by the interruption
     (tmp_path / "rows.csv").write_text("".join(lines[:6] + [lines[10], lines[11][:30]]))
     (tmp_path / "campaign.json").write_text((local_out / "campaign.json").read_text())
-    summary = run_campaign(CAMPAIGN, 20, tmp_path, workers=1, seed=7, resume=True, progress=False,
-                           make_plots=False)
+    summary = run_campaign(CampaignOptions(scenario=CAMPAIGN, runs=20, out=tmp_path, workers=1, seed=7, resume=True,
+                                           plots=False))
     assert summary["runs_this_session"] == 14
     assert _rows(tmp_path) == _rows(local_out)
 
@@ -130,7 +132,7 @@ def test_resume_refuses_another_campaign(local_20, tmp_path):
     _, local_out = local_20
     (tmp_path / "campaign.json").write_text((local_out / "campaign.json").read_text())
     with pytest.raises(InputError, match="different campaign"):
-        run_campaign(CAMPAIGN, 20, tmp_path, seed=8, resume=True, progress=False)
+        run_campaign(CampaignOptions(scenario=CAMPAIGN, runs=20, out=tmp_path, seed=8, resume=True))
 
 
 def test_draws_depend_only_on_campaign_seed_and_run():
@@ -212,8 +214,8 @@ def _campaign_of(tmp_path, fmu, name, parameter, low, high):
 @pytest.mark.integration
 def test_failing_runs_are_recorded_and_the_campaign_goes_on(tmp_path, faulty_fmu):
     scenario = _campaign_of(tmp_path, faulty_fmu, "faulty", "fail_at", 0.5, 1.5)
-    summary = run_campaign(scenario, 12, tmp_path / "out", workers=2, seed=1, progress=False,
-                           make_plots=False)
+    summary = run_campaign(CampaignOptions(scenario=scenario, runs=12, out=tmp_path / "out", workers=2, seed=1,
+                                           plots=False))
     with open(tmp_path / "out" / "rows.csv") as f:
         rows = list(csv.DictReader(f))
     for r in rows:
@@ -230,8 +232,8 @@ def test_crashing_runs_are_recorded_and_the_campaign_goes_on(tmp_path):
     (tmp_path / "Crashy.py").write_text(CRASHY_SOURCE)
     fmu = FmuBuilder.build_FMU(tmp_path / "Crashy.py", dest=tmp_path / "Crashy.fmu")
     scenario = _campaign_of(tmp_path, fmu, "crashy", "crash_at", 0.75, 2.75)
-    summary = run_campaign(scenario, 8, tmp_path / "out", workers=2, seed=2, progress=False,
-                           make_plots=False)
+    summary = run_campaign(CampaignOptions(scenario=scenario, runs=8, out=tmp_path / "out", workers=2, seed=2,
+                                           plots=False))
     with open(tmp_path / "out" / "rows.csv") as f:
         rows = list(csv.DictReader(f))
     assert [int(r["run"]) for r in rows] == list(range(8))

@@ -5,7 +5,8 @@ import math
 import pytest
 
 import aotv_cosim
-from aotv_cosim.campaigns.sweep import grid_points, parse_grid
+from aotv_cosim.campaigns.sweep import grid_points
+from aotv_cosim.options.checks import parse_grid
 from aotv_cosim.errors import InputError
 from tests.helpers import SCENARIOS
 
@@ -13,8 +14,8 @@ PASS = SCENARIOS / "benchmark_seed000" / "time_linear.json"
 
 
 def test_grids_are_parsed_and_combined():
-    assert parse_grid("vehicle.gamma0=-0.03:-0.01:3") == ("vehicle.gamma0", [-0.03, -0.02, -0.01])
-    assert parse_grid("atmosphere.density_factor=0.8,1.2") == ("atmosphere.density_factor", [0.8, 1.2])
+    assert parse_grid("vehicle.gamma0=-0.03:-0.01:3") == ("vehicle.gamma0", (-0.03, -0.02, -0.01))
+    assert parse_grid("atmosphere.density_factor=0.8,1.2") == ("atmosphere.density_factor", (0.8, 1.2))
     assert grid_points([("a.x", [1.0, 2.0]), ("b.y", [3.0])]) == [{"a.x": 1.0, "b.y": 3.0}, {"a.x": 2.0, "b.y": 3.0}]
     for bad in ("gamma0=-0.03:-0.01:3", "vehicle.gamma0=1:2", "vehicle.gamma0=a,b", "vehicle.gamma0=nan"):
         with pytest.raises(InputError):
@@ -64,6 +65,7 @@ def test_a_law_scenario_with_other_dispersions_is_refused(tmp_path):
     import json
 
     from aotv_cosim.campaigns.benchmark import run_benchmark
+    from aotv_cosim.options import BenchmarkOptions
     from tests.helpers import write_json
 
     doc = json.loads(PASS.read_text())
@@ -72,7 +74,7 @@ def test_a_law_scenario_with_other_dispersions_is_refused(tmp_path):
     doc["dispersions"] = {"vehicle.gamma0": {"distribution": "uniform", "low": -0.021, "high": -0.019}}
     mine = write_json(tmp_path / "mine.json", doc)
     with pytest.raises(InputError, match="its dispersions differ from those of time_linear.json"):
-        run_benchmark(PASS, 2, tmp_path / "o", laws=[mine], progress=False)
+        run_benchmark(BenchmarkOptions(scenario_set=PASS, runs=2, out=tmp_path / "o", laws=[mine]))
     wiring = PASS.parent / doc["system"]
     with pytest.raises(InputError, match="a wiring, not a scenario set; give it as --law"):
-        run_benchmark(wiring, 2, tmp_path / "o", progress=False)
+        run_benchmark(BenchmarkOptions(scenario_set=wiring, runs=2, out=tmp_path / "o"))

@@ -93,6 +93,6 @@ def test_bad_set_values(tmp_path):
     code, text = invoke("run", NOMINAL, "--out", tmp_path, "--set", "vehicle.h0=NaN")
     assert code == 2 and "h0 is Real, got 'NaN'" in text, text
     code, text = invoke("run", NOMINAL, "--out", tmp_path, "--step", "0")
-    assert code == 2 and "step must be positive" in text, text
+    assert code == 2 and "--step: the step 0.0 s is not a finite number above 0" in text, text
     code, text = invoke("run", NOMINAL, "--out", tmp_path, "--set", "vehicle.nope=1")
     assert code == 2 and "no variable 'nope'" in text, text

@@ -12,7 +12,7 @@ import os
 import pytest
 from click.testing import CliRunner
 
-from aotv_cosim.campaigns.sweep import MAX_POINTS, parse_grid
+from aotv_cosim.options.checks import MAX_POINTS, parse_grid
 from aotv_cosim.cli import main
 from tests.helpers import SCENARIOS, cli, write_json
 from tests.model.archives import CORPUS
@@ -183,7 +183,8 @@ def test_bad_law_files_are_one_line_before_any_run(tmp_path):
     bench = ["benchmark", PASS, "--runs", "2", "--out", out]
     result = CliRunner().invoke(main, [str(a) for a in bench + ["--law", tmp_path / "missing.json"]])
     assert result.exit_code == 2 and len(result.stderr.strip().splitlines()) == 1
-    assert "missing.json' does not exist" in result.stderr
+    assert f"error: {tmp_path / 'missing.json'}: --law: file not found; give the path of an existing law" \
+        in result.stderr
     unknown = _wiring_law(tmp_path / "unknown.json", fmu="NoSuchLaw")
     one_line(bench + ["--law", unknown], unknown, "components.guidance.fmu", "no FMU named 'NoSuchLaw'",
              "give a path to a .fmu file")
@@ -248,7 +249,7 @@ def test_a_bracket_that_is_no_range_is_one_line_before_any_run(bracket, entry, m
 @pytest.mark.parametrize("option", [("--tolerance", "inf"), ("--lift-to-drag", "nan"), ("--tolerance", "0")])
 def test_a_corridor_tolerance_or_lift_to_drag_that_is_not_finite_and_positive_is_one_line(option, tmp_path):
     args = ["corridor", PASS, "--lift-to-drag", "5", *option, "--out", tmp_path / "o"]
-    one_line(args, PASS, "--lift-to-drag/--tolerance", "must be finite and positive", "give L/D > 0")
+    one_line(args, PASS, option[0], "is not a finite number above 0", "give a finite number above 0")
 
 
 @pytest.mark.integration

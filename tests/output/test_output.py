@@ -144,7 +144,7 @@ def test_summary_that_cannot_be_written_leaves_no_empty_part(tmp_path, monkeypat
     result = cli("run", relay_scenario(tmp_path, 1.0), "--out", out, "--no-plots")
     assert result.exit_code == 1
     _one_error(result, f"error: {out}: --out: cannot write summary.json: No space left on device")
-    assert sorted(p.name for p in out.iterdir()) == [".lock", "timeseries.csv"]
+    assert sorted(p.name for p in out.iterdir()) == [".aotv-written", ".lock", "timeseries.csv"]
 
 
 @contextlib.contextmanager

@@ -71,7 +71,7 @@ def test_run_of_a_loaded_scenario_with_overrides():
         aotv_cosim.run(scenario, stop=-1.0)
     with pytest.raises(InputError, match="plots need an output folder"):
         aotv_cosim.run(scenario, plots=True)
-    with pytest.raises(InputError, match="formats: unknown time series format.s. 'hdf5'; give csv and/or parquet"):
+    with pytest.raises(InputError, match="--format: unknown time series format.s. 'hdf5'; give csv and/or parquet"):
         aotv_cosim.run(scenario, out="unused", formats=("csv", "hdf5"))
 
 

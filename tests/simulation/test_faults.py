@@ -56,7 +56,7 @@ def test_fault_stops_the_run_and_keeps_results(tmp_path, wiring_doc, kind, call,
     assert log in result.output  # in the failure line or the 'FMU log:' line after it
     times = _times(out)
     assert times[-1] == pytest.approx(first_bad) and len(times) == round(first_bad / STEP) + 1
-    assert sorted(p.name for p in out.iterdir()) == [".lock", "summary.json", "timeseries.csv"]
+    assert sorted(p.name for p in out.iterdir()) == [".aotv-written", ".lock", "summary.json", "timeseries.csv"]
 
 
 def test_no_fault_passes_the_signal_through(tmp_path, wiring_doc):

@@ -31,5 +31,5 @@ def test_interrupted_run_keeps_a_readable_partial_series(tmp_path, signum):
     assert len(rows) >= 1000 and all(len(r) == 4 and r[1:3] == [0.5, 0.5] for r in rows)
     assert [r[0] for r in rows] == pytest.approx([k * STEP for k in range(len(rows))])
     assert summary["end_time"] == rows[-1][0] and summary["steps"] >= len(rows) - 1
-    assert sorted(p.name for p in out.iterdir()) == [".lock", "summary.json", "timeseries.csv"]
+    assert sorted(p.name for p in out.iterdir()) == [".aotv-written", ".lock", "summary.json", "timeseries.csv"]
     assert "interrupted" in stdout

@@ -8,6 +8,7 @@ import pytest
 from aotv_cosim.campaigns import backends
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import run_one
+from aotv_cosim.options import RunsOptions
 from tests.helpers import short_nominal, start_process
 
 pytestmark = pytest.mark.integration
@@ -37,7 +38,7 @@ def test_workers_exit_with_instances_open_without_an_abort(tmp_path, capfd):
     codes = []
     for _ in range(50):
         pool = backends._pool(2)
-        tasks = [pool.submit(run_one, ScenarioRef.of(scenario), k, {}) for k in range(2)]
+        tasks = [pool.submit(run_one, ScenarioRef.of(scenario), RunsOptions(), k, {}) for k in range(2)]
         assert all(task.result()["status"] == "completed" for task in tasks)
         assert len(pool.workers) == 2
         pool.shutdown()
