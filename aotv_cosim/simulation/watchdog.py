@@ -101,7 +101,7 @@ def _stepping(exc):
     the master's own code between two FMU calls), else (None, None)."""
     if isinstance(exc, SimulationError) and exc.component:
         return exc.component, exc.file
-    from aotv_cosim.simulation.fmi_instance import FmuInstance
+    from aotv_cosim.simulation.instance import FmuInstance
 
     found, tb = None, exc.__traceback__
     while tb is not None:
