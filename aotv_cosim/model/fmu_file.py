@@ -22,7 +22,7 @@ from aotv_cosim.errors import InputError
 from aotv_cosim.model.variable_types import KIND, call_type
 from aotv_cosim.paths import regular_file, resolved
 
-VERSIONS = ("2.0",)
+VERSIONS = ("2.0", "3.0")
 """The fmiVersion values of the FMUs the master runs."""
 
 FmuResolver = Callable[[Union[str, Path]], Union[Path, "FmuInfo"]]
@@ -146,8 +146,8 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
     if md.fmiVersion == "3.0":
         refused = _fmi3_refusals(md)
         if refused:
-            raise InputError(f"{path.name} {refused}", file=file, entry=entry,
-                             fix="export the FMU without it (scalar variables, no clocks), or wrap it")
+            cause, fix = refused
+            raise InputError(f"{path.name} {cause}", file=file, entry=entry, fix=fix)
     check_fmu_members(path, md.coSimulation.modelIdentifier, fmi_version=md.fmiVersion, file=file, entry=entry)
     variables = {v.name: Variable(v.name, v.valueReference, KIND[v.type], v.causality, v.variability,
                                   v.unit or (v.declaredType.unit if v.declaredType else None) or "",
@@ -163,21 +163,24 @@ REACHABLE = ("parameter", "input", "output", "structuralParameter")
 """Causalities of the variables a wiring can set, connect or record."""
 
 
-def _fmi3_refusals(md) -> str:
-    """What an FMI 3.0 co-simulation FMU declares that the master does not run, as the rest of a
-    sentence after the FMU's name, or "" when there is nothing: array variables a wiring could
-    reach (FMI 3.0 arrays), Clock variables and clocked variables (clocks), for event mode and
-    intermediate updates the master never asks (eventModeUsed and earlyReturnAllowed false), so
-    those are not refused."""
+def _fmi3_refusals(md):
+    """(cause, fix) of what an FMI 3.0 co-simulation FMU declares that the master does not run,
+    the cause the rest of a sentence after the FMU's name, or None: array variables a wiring could
+    reach (FMI 3.0 arrays), Clock variables and clocked variables (clocks). Event mode and early
+    return are not refused: the master never asks for them (eventModeUsed and earlyReturnAllowed
+    false), which every co-simulation FMU must accept."""
+    def listed(names):
+        return ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
+
     arrays = [v.name for v in md.modelVariables if v.dimensions and v.causality in REACHABLE]
     if arrays:
-        return (f"declares array variables ({', '.join(arrays[:3])}{', ...' if len(arrays) > 3 else ''}): "
-                "FMI 3.0 arrays are not supported by this master")
+        return (f"declares array variables ({listed(arrays)}): FMI 3.0 arrays are not supported by this master",
+                "export the FMU with scalar parameters, inputs and outputs")
     clocks = [v.name for v in md.modelVariables if v.type == "Clock" or v.clocks]
     if clocks:
-        return (f"declares clocks or clocked variables ({', '.join(clocks[:3])}{', ...' if len(clocks) > 3 else ''}): "
-                "FMI 3.0 clocks are not supported by this master")
-    return ""
+        return (f"declares clocks or clocked variables ({listed(clocks)}): FMI 3.0 clocks are not supported "
+                "by this master", "export the FMU without clocks")
+    return None
 
 
 def _dependencies(unknowns, inputs):

@@ -158,13 +158,16 @@ class Decoder:
         return typed(kind, slot)
 
     def column(self, column: str, values):
-        """A recorded column as a numpy array of its type (int32, bool, object for String)."""
+        """A recorded column as a numpy array of its type (int32, bool, object for String); an
+        integer column with a value beyond int32 (an FMI 3.0 UInt32, Int64 or UInt64) is int64,
+        which holds every integer the buffer carries exactly (+-2^53)."""
         import numpy as np
 
         kind = self.kind(column)
         values = np.asarray(values, dtype=float)
         if kind in ("Integer", "Enumeration"):
-            return values.astype(np.int32)
+            fits = values.size == 0 or (values.min() >= -2**31 and values.max() < 2**31)
+            return values.astype(np.int32 if fits else np.int64)
         if kind == "Boolean":
             return values != 0.0
         if kind == "String":

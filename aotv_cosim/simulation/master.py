@@ -51,6 +51,7 @@ from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.simulation.interrupts import Interrupted
 from aotv_cosim.simulation.fmi2_instance import Fmi2Instance
+from aotv_cosim.simulation.fmi3_instance import Fmi3Instance
 from aotv_cosim.simulation.rows import CHUNK, Recorder, Rows
 from aotv_cosim.model.ranges import RangeWatch
 from aotv_cosim.model.scenario import crossing
@@ -94,7 +95,7 @@ FMI_CALLS_DEFAULT = "direct"
 of the stock one's (bench/bench_fmi_calls.py)."""
 
 
-C_INSTANCES = {"2.0": Fmi2Instance}
+C_INSTANCES = {"2.0": Fmi2Instance, "3.0": Fmi3Instance}
 """fmiVersion -> the `instance.FmuInstance` that calls such an FMU through its C library."""
 
 

@@ -214,3 +214,48 @@ def test_the_command_line_and_the_api_choose_the_call_path(calls, tmp_path):
     ran = api.run(SCENARIOS / "aotv_time_linear_nominal.json", stop=1.0, fmi_calls=calls)
     assert ran.summary["fmi_calls"] == expected
     assert without_wall_clock((tmp_path / "cli" / "timeseries.csv").read_bytes()).startswith(b"time,")
+
+
+def _with_member(source, target, name, change):
+    """A copy of the FMU archive `source` at `target` with member `name` made `change(old bytes or
+    None)` (None: left out)."""
+    import zipfile
+
+    with zipfile.ZipFile(source) as old, zipfile.ZipFile(target, "w") as new:
+        members = {n: old.read(n) for n in old.namelist()}
+        members[name] = change(members.get(name))
+        for member, data in members.items():
+            if data is not None:
+                new.writestr(member, data)
+    return target
+
+
+@pytest.mark.parametrize("edit", ["guid in modelDescription", "guid file", "guid file agrees"])
+def test_the_direct_path_refuses_a_guid_the_fmu_was_not_built_with(tmp_path, edit):
+    """As the C wrapper refuses to instantiate with another GUID, so does the direct path: the
+    build's GUID is read from resources/aotv_cosim_guid.txt when the FMU has it, else derived again
+    by the build's rule from its source hash and modelDescription."""
+    from aotv_cosim.fmu.build import built_fmu
+    from aotv_cosim.simulation.direct_instance import GUID_FILE
+    from tests.helpers import write_json
+
+    import fmpy
+
+    source = built_fmu("Atmosphere")
+    guid = fmpy.read_model_description(str(source)).guid
+    other = "{00000000-0000-5000-8000-000000000000}"
+    if edit == "guid in modelDescription":
+        fmu = _with_member(source, tmp_path / "Atm.fmu", "modelDescription.xml",
+                           lambda xml: xml.replace(guid.encode(), other.encode()))
+    else:
+        fmu = _with_member(source, tmp_path / "Atm.fmu", GUID_FILE,
+                           lambda _: (guid if edit == "guid file agrees" else other).encode())
+    write_json(tmp_path / "w.json", {"components": {"a": {"fmu": "Atm.fmu", "parameters": {"h": 80000.0}}},
+                                     "connections": []})
+    path = write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1.0, "step": 0.5})
+    summary = write_run(load_scenario(path), tmp_path / "out", make_plots=False, fmi_calls="direct").summary.as_json()
+    if edit == "guid file agrees":
+        assert summary["status"] == "completed", summary["error"]
+        assert summary["fmus"]["a"]["fmi_calls"] == "direct"
+    else:
+        assert summary["status"] == "failed" and "instantiate" in summary["error"] and "GUID" in summary["error"]

@@ -1,0 +1,227 @@
+"""The master as an FMI 3.0 importer: every scalar type (Float32/64, Int8 to UInt64, Boolean,
+String, Binary, Enumeration), terminate requests and discards from fmi3DoStep, FMU states, the
+instantiation token, FMI 2.0 and FMI 3.0 FMUs in one system with typed connections across
+versions, and arrays and clocks refused in one line. A run of one FMU is compared with
+fmpy.simulate_fmu on the same FMU (FMPy records no String or Binary output: those are checked by
+value).
+
+Typed3 is a C FMU written for these tests (tests/helper_fmus/fmi3_typed.c, compiled with gcc);
+the FMI 2.0 side is the Modes C FMU and the pythonfmu Counter and Sink of test_fmi_import.
+"""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+
+from tests.helper_fmus import typed as typed_fmus
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
+from tests.helpers import cli, one_line, write_json
+
+pytestmark = [pytest.mark.integration,
+              pytest.mark.skipif(not typed_fmus.have_gcc(), reason="no gcc to compile the C test FMUs")]
+
+
+@pytest.fixture(scope="session")
+def fmus(tmp_path_factory):
+    """Typed3 (FMI 3.0) and its variants, with Modes, Counter and Sink (FMI 2.0), in one folder."""
+    folder = tmp_path_factory.mktemp("fmi3_fmus")
+    typed3 = typed_fmus.compile_typed3(folder)
+    typed_fmus.typed3_fmu(folder / "Typed3.fmu", typed3)
+    typed_fmus.typed3_fmu(folder / "Typed3Array.fmu", typed3, extra=typed_fmus.ARRAY3)
+    typed_fmus.typed3_fmu(folder / "Typed3Clock.fmu", typed3, extra=typed_fmus.CLOCK3)
+    typed_fmus.typed3_fmu(folder / "Typed3Token.fmu", typed3, token="{00000000-0000-0000-0000-000000000000}")
+    typed_fmus.typed3_fmu(folder / "Typed3Default.fmu", typed3,
+                          experiment={"startTime": 0.5, "stopTime": 1.5, "stepSize": 0.25})
+    modes = typed_fmus.compile_modes(folder)
+    typed_fmus.modes_fmu(folder / "Modes.fmu", modes)
+    typed_fmus.build_pythonfmu(folder, "Counter", typed_fmus.COUNTER_SOURCE)
+    typed_fmus.build_pythonfmu(folder, "Sink", typed_fmus.SINK_SOURCE)
+    return folder
+
+
+EDGES = {"f32_in": 0.1, "i8_in": -128, "u8_in": 255, "i16_in": -32768, "u16_in": 65535, "i32_in": -2147483648,
+         "u32_in": 4294967295, "i64_in": -(2 ** 53), "u64_in": 2 ** 53, "flag_in": True, "text_in": "grüße",
+         "blob_in": "00c0ffee", "mode_in": "Ramp", "u": 1.25, "rate": 2.0}
+"""A value for every input of Typed3, each at an end of its type's range (the 64-bit ones at
++-2^53, what the master's float64 buffer holds exactly), a Float32 that is not a float64's value."""
+
+
+def _run(tmp_path, fmus, wiring, scenario, formats=("csv",)):
+    for fmu in fmus.glob("*.fmu"):
+        if not (tmp_path / fmu.name).exists():
+            (tmp_path / fmu.name).symlink_to(fmu)
+    write_json(tmp_path / "w.json", wiring)
+    path = write_json(tmp_path / "s.json", {"system": "w.json", **scenario})
+    summary = run_scenario(load_scenario(path), tmp_path / "out", make_plots=False, formats=formats).as_json()
+    frame = pd.read_csv(tmp_path / "out" / "timeseries.csv", keep_default_na=False) if "csv" in formats else None
+    return summary, frame
+
+
+def _alone(values):
+    return {"components": {"t": {"fmu": "Typed3.fmu", "parameters": values}}, "connections": []}
+
+
+def _fmpy(fmu, values, **options):
+    """fmpy.simulate_fmu of `fmu` with the wiring `values` (an Enumeration by its integer)."""
+    import fmpy
+
+    starts = {k: 2 if v == "Ramp" else v for k, v in values.items()}
+    return fmpy.simulate_fmu(str(fmu), start_values=starts, **options)
+
+
+def test_every_fmi3_type_is_recorded_as_fmpy_reads_it(tmp_path, fmus):
+    """Every output of Typed3 with its inputs at the ends of their ranges: the same rows as
+    fmpy.simulate_fmu to the bit; Parquet columns of their type's width; String and Binary text."""
+    summary, frame = _run(tmp_path, fmus, _alone(EDGES), {"stop": 1.0, "step": 0.25}, formats=("csv", "parquet"))
+    assert summary["status"] == "completed", summary["error"]
+    reference = _fmpy(fmus / "Typed3.fmu", EDGES, stop_time=1.0, output_interval=0.25)
+    assert np.array_equal(frame["time"].to_numpy(), reference["time"])
+    for name in reference.dtype.names[1:]:
+        assert np.array_equal(frame[f"t.{name}"].to_numpy().astype(reference[name].dtype), reference[name]), name
+    assert set(frame["t.text_out"]) == {"grüße"} and set(frame["t.blob_out"].astype(str)) == {"00c0ffee"}
+    assert frame["t.x"].iloc[-1] == 2.0 and frame["t.y"].iloc[-1] == 2.5
+    table = pq.read_table(tmp_path / "out" / "timeseries.parquet")
+    kinds = {f.name: str(f.type) for f in table.schema}
+    assert [kinds[f"t.{n}"] for n in ("f32_out", "i8_out", "u32_out", "u64_out", "flag_out", "blob_out", "mode_out")] \
+        == ["double", "int32", "int64", "int64", "bool", "string", "int32"]
+    assert table.column("t.u64_out").to_pylist()[-1] == 2 ** 53
+    assert summary["units"]["t.x"] == "m"  # from the Float64Type it is declared with
+    assert summary["types"]["t.i64_out"] == "Integer" and summary["final"]["t.mode_out"] == 2
+
+
+def test_a_terminate_request_from_fmi3_dostep_ends_the_run_cleanly(tmp_path, fmus):
+    """fmi3DoStep returns ok with terminateSimulation: the step was taken, so the FMU alone gets
+    the row at the communication point it reached (as FMPy records it); status terminated, exit 0."""
+    values = {**EDGES, "terminate_at": 0.35}
+    summary, frame = _run(tmp_path, fmus, _alone(values), {"stop": 1.0, "step": 0.1})
+    assert summary["status"] == "terminated" and summary["end_time"] == 0.4
+    assert summary["terminate_request"] == {"component": "t", "communication_point": 0.30000000000000004,
+                                            "last_successful_time": 0.4}
+    reference = _fmpy(fmus / "Typed3.fmu", values, stop_time=1.0, output_interval=0.1)
+    assert np.array_equal(frame["time"].to_numpy(), reference["time"])
+    assert np.array_equal(frame["t.steps"].to_numpy(), reference["steps"])
+    result = cli("run", tmp_path / "s.json", "--out", tmp_path / "cli", "--no-plots")
+    assert result.exit_code == 0 and "asked to end the simulation" in result.output
+
+
+def test_a_discard_from_fmi3_dostep_fails_the_run_with_the_fmus_message(tmp_path, fmus):
+    summary, frame = _run(tmp_path, fmus, _alone({**EDGES, "discard_at": 0.55}), {"stop": 1.0, "step": 0.125})
+    assert summary["status"] == "failed"
+    assert "fmi3DoStep returned discard at t = 0.5 s: the step to 0.625 s reaches discard_at" in summary["error"]
+    assert frame["time"].iloc[-1] == 0.5 and "terminate_request" not in summary
+
+
+def test_an_fmi3_fmu_given_another_instantiation_token_does_not_run(tmp_path, fmus):
+    wiring = {"components": {"t": {"fmu": "Typed3Token.fmu", "parameters": EDGES}}, "connections": []}
+    summary, _ = _run(tmp_path, fmus, wiring, {"stop": 1.0, "step": 0.5})
+    assert summary["status"] == "failed" and "instantiation token" in summary["error"]
+
+
+MIXED = {
+    "components": {
+        "c": {"fmu": "Counter.fmu", "parameters": {"first": 1, "label": "k", "increment": 2, "enabled": True}},
+        "m": {"fmu": "Modes.fmu", "parameters": {"mode": "Ramp", "rate": 2.0}},
+        "t": {"fmu": "Typed3.fmu", "parameters": {k: v for k, v in EDGES.items()
+                                                  if k not in ("i32_in", "flag_in", "text_in", "u", "mode_in")}},
+        "t2": {"fmu": "Typed3.fmu", "parameters": {k: v for k, v in EDGES.items()
+                                                   if k not in ("i16_in", "blob_in", "f32_in", "u32_in", "i64_in")}},
+        "s": {"fmu": "Sink.fmu"},
+    },
+    "connections": ["c.count -> t.i32_in", "c.even -> t.flag_in", "c.tag -> t.text_in", "m.x -> t.u",
+                    "m.mode_out -> t.mode_in", "t.u8_out -> m.bias (as Real)",
+                    "t.i32_out -> s.n", "t.flag_out -> s.flag", "t.text_out -> s.text", "t.y -> s.u",
+                    "t.i8_out -> t2.i16_in", "t.blob_out -> t2.blob_in", "t.f32_out -> t2.f32_in",
+                    "t.u16_out -> t2.u32_in", "t.i32_out -> t2.i64_in"],
+}
+"""FMI 2.0 (Counter, Sink: pythonfmu; Modes: C) and FMI 3.0 (t, t2) in one system: Integer into
+Int32 and back, Boolean, String, Real into Float64 and back, an Enumeration of the same declared
+type, a UInt8 '(as Real)', and between the FMI 3.0 ones a Binary and lossless widenings."""
+
+
+@pytest.mark.parametrize("algorithm, inputs", [("gauss-seidel", "held"), ("jacobi", "held"),
+                                               ("gauss-seidel", "extrapolated")])
+def test_fmi2_and_fmi3_fmus_run_in_one_system(tmp_path, fmus, algorithm, inputs):
+    summary, frame = _run(tmp_path, fmus, MIXED, {"stop": 1.0, "algorithm": algorithm,
+                                                  "step": {"size": 0.25, "inputs": inputs}})
+    assert summary["status"] == "completed", summary["error"]
+    assert {f["fmi_calls"] for f in summary["fmus"].values()} == {"c"}
+    if algorithm == "gauss-seidel":  # the chains are fresh at every communication point
+        assert frame["t.i32_out"].tolist() == frame["c.count"].tolist() == [1, 3, 5, 7, 9]
+        assert frame["t.text_out"].tolist() == frame["c.tag"].tolist()
+        assert frame["t.flag_out"].tolist() == frame["c.even"].tolist()
+        assert frame["t2.i64_out"].tolist() == frame["t.i32_out"].tolist()
+        assert frame["t.mode_out"].tolist() == frame["m.mode_out"].tolist() == [2] * 5
+    assert frame["t2.i16_out"].tolist() == [-128] * 5 and frame["t2.u32_out"].tolist() == [65535] * 5
+    assert set(frame["t2.blob_out"].astype(str)) == {"00c0ffee"}
+    assert frame["t2.f32_out"].tolist() == [float(np.float32(0.1))] * 5
+
+
+@pytest.mark.parametrize("connection, cause, fix", [
+    ("t.i16_out -> t2.i8_in", "type mismatch: Int16 -> Int8", "holds every Int16 value"),
+    ("t.u64_out -> t2.i64_in", "type mismatch: UInt64 -> Int64", "holds every UInt64 value"),
+    ("m.x -> t2.f32_in", "type mismatch: Real -> Float32", "connect variables of the same type"),
+    ("t.blob_out -> t2.text_in", "type mismatch: Binary -> String", "connect variables of the same type"),
+    ("t.i8_out -> t2.f32_in (as Real)", "cannot convert Int8 -> Float32 (as Real)", "to a Real input (FMI 3.0: Float64)")])
+def test_fmi3_connections_that_could_lose_values_are_refused(tmp_path, fmus, connection, cause, fix):
+    target = connection.split("-> t2.")[1].split(" ")[0]
+    wiring = {"components": {"t": {"fmu": str(fmus / "Typed3.fmu"), "parameters": EDGES},
+                             "t2": {"fmu": str(fmus / "Typed3.fmu"),
+                                    "parameters": {k: v for k, v in EDGES.items() if k != target}},
+                             "m": {"fmu": str(fmus / "Modes.fmu"), "parameters": {"bias": 0.0}}},
+              "connections": [connection]}
+    one_line(["validate", write_json(tmp_path / "w.json", wiring)], cause, fix)
+
+
+@pytest.mark.parametrize("name, value, message", [
+    ("u8_in", 256, "u8_in is an UInt8, got 256; give an integer between 0 and 255"),
+    ("i64_in", 2 ** 63, "i64_in is an Int64, got 9223372036854775808"),
+    ("f32_in", 1e39, "f32_in is a Float32, got 1e+39"),
+    ("blob_in", "c0ffe", "blob_in is Binary, got 'c0ffe'; give its bytes as hexadecimal text"),
+    ("flag_in", 1, "flag_in is Boolean, got 1"),
+    ("mode_in", "Fast", "mode_in is an Enumeration, got 'Fast'")])
+def test_fmi3_values_outside_their_type_are_refused(tmp_path, fmus, name, value, message):
+    path = write_json(tmp_path / "w.json", _alone({**EDGES, name: value}))
+    (tmp_path / "Typed3.fmu").symlink_to(fmus / "Typed3.fmu")
+    one_line(["validate", path], message)
+
+
+@pytest.mark.parametrize("fmu, feature", [("Typed3Array.fmu", "array variables (vec): FMI 3.0 arrays"),
+                                          ("Typed3Clock.fmu", "clocks or clocked variables (tick): FMI 3.0 clocks")])
+def test_fmi3_arrays_and_clocks_are_refused_in_one_line(tmp_path, fmus, fmu, feature):
+    path = write_json(tmp_path / "w.json", {"components": {"t": {"fmu": str(fmus / fmu), "parameters": EDGES}},
+                                            "connections": []})
+    one_line(["validate", path], f"{fmu} declares {feature} are not supported by this master")
+    scenario = write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1.0, "step": 0.5})
+    one_line(["run", scenario, "--out", tmp_path / "out"], feature)
+
+
+def test_error_controlled_steps_save_and_restore_fmi3_states(tmp_path, fmus):
+    """Step doubling saves, restores and frees fmi3 FMU states; x grows linearly, so every step
+    is accepted and x ends at rate * stop exactly."""
+    summary, frame = _run(tmp_path, fmus, _alone(EDGES), {"stop": 1.0, "step": {"size": 0.25,
+                                                                                 "tolerance": {"t.x": 1e-9}}})
+    assert summary["status"] == "completed", summary["error"]
+    assert summary["step_control"]["rejected"] == 0 and frame["t.x"].iloc[-1] == 2.0
+
+
+def test_times_come_from_an_fmi3_default_experiment(tmp_path, fmus):
+    wiring = {"components": {"t": {"fmu": "Typed3Default.fmu", "parameters": EDGES}}, "connections": []}
+    summary, frame = _run(tmp_path, fmus, wiring, {})
+    assert frame["time"].tolist() == [0.5, 0.75, 1.0, 1.25, 1.5]
+
+
+def test_an_int64_beyond_what_the_buffer_holds_fails_the_run(tmp_path, fmus):
+    summary, _ = _run(tmp_path, fmus, _alone({**EDGES, "u64_in": 2 ** 53 + 1}), {"stop": 1.0, "step": 0.5})
+    assert summary["status"] == "failed" and "beyond +-2^53" in summary["error"]
+    assert summary["error_detail"]["variable"] == "u64_out"
+
+
+def test_describe_shows_fmi3_types_and_units(fmus):
+    result = cli("describe", fmus / "Typed3.fmu")
+    assert result.exit_code == 0
+    rows = {line.split()[0]: line.split() for line in result.output.splitlines()[1:]}
+    assert rows["x"][3:5] == ["Float64", "m"] and rows["u16_in"][3] == "UInt16" and rows["blob_out"][3] == "Binary"
