@@ -275,7 +275,8 @@ class Coupling:
                 one(t, step, t_new)
             for call in finish:
                 call(t_new)
-        return watchdog.limited(jacobi_sweep if jacobi else gauss_seidel, self.scenario.step_timeout)
+        return watchdog.limited(jacobi_sweep if jacobi else gauss_seidel, self.scenario.step_timeout,
+                                {name: inst.step_call for name, inst in self.instances.items()})
 
     def _component_step(self, layout, jacobi, rollback):
         """(step, read) of one component: step(t, h, t_new) makes the calls `before` its step,

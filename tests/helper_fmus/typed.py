@@ -233,8 +233,10 @@ TYPED3_PAIRS = [("f32", "Float32", 10, 'start="0"'), ("i8", "Int8", 12, 'start="
 <stem>_out (value reference + 1) of Typed3."""
 
 
-def typed3_xml(token=TYPED3_TOKEN, extra="", experiment=None) -> str:
-    """Typed3's modelDescription; `extra`: more ModelVariables elements (an array, a clock)."""
+def typed3_xml(token=TYPED3_TOKEN, extra="", experiment=None, variable=True, state=True, once=False) -> str:
+    """Typed3's modelDescription; `extra`: more ModelVariables elements (an array, a clock);
+    variable, state, once: canHandleVariableCommunicationStepSize, canGetAndSetFMUState,
+    canBeInstantiatedOnlyOncePerProcess."""
     variables = []
     for stem, kind, vr, start in TYPED3_PAIRS:
         child = '<Start value=""/>' if kind in ("String", "Binary") else ""
@@ -249,7 +251,8 @@ def typed3_xml(token=TYPED3_TOKEN, extra="", experiment=None) -> str:
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <fmiModelDescription fmiVersion="3.0" modelName="Typed3" instantiationToken="{token}"
   generationTool="aotv-cosim tests">
-  <CoSimulation modelIdentifier="Typed3" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true"/>
+  <CoSimulation modelIdentifier="Typed3" canHandleVariableCommunicationStepSize="{str(variable).lower()}"
+    canGetAndSetFMUState="{str(state).lower()}" canBeInstantiatedOnlyOncePerProcess="{str(once).lower()}"/>
   <UnitDefinitions>
     <Unit name="m"><BaseUnit m="1"/></Unit>
     <Unit name="m/s"><BaseUnit m="1" s="-1"/></Unit>

@@ -235,20 +235,20 @@ def test_the_direct_path_refuses_a_guid_the_fmu_was_not_built_with(tmp_path, edi
     """As the C wrapper refuses to instantiate with another GUID, so does the direct path: the
     build's GUID is read from resources/aotv_cosim_guid.txt when the FMU has it, else derived again
     by the build's rule from its source hash and modelDescription."""
+    import fmpy
+
     from aotv_cosim.fmu.build import built_fmu
     from aotv_cosim.simulation.direct_instance import GUID_FILE
     from tests.helpers import write_json
-
-    import fmpy
 
     source = built_fmu("Atmosphere")
     guid = fmpy.read_model_description(str(source)).guid
     other = "{00000000-0000-5000-8000-000000000000}"
     if edit == "guid in modelDescription":
-        fmu = _with_member(source, tmp_path / "Atm.fmu", "modelDescription.xml",
+        _with_member(source, tmp_path / "Atm.fmu", "modelDescription.xml",
                            lambda xml: xml.replace(guid.encode(), other.encode()))
     else:
-        fmu = _with_member(source, tmp_path / "Atm.fmu", GUID_FILE,
+        _with_member(source, tmp_path / "Atm.fmu", GUID_FILE,
                            lambda _: (guid if edit == "guid file agrees" else other).encode())
     write_json(tmp_path / "w.json", {"components": {"a": {"fmu": "Atm.fmu", "parameters": {"h": 80000.0}}},
                                      "connections": []})

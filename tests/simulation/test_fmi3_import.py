@@ -9,16 +9,16 @@ Typed3 is a C FMU written for these tests (tests/helper_fmus/fmi3_typed.c, compi
 the FMI 2.0 side is the Modes C FMU and the pythonfmu Counter and Sink of test_fmi_import.
 """
 
-import json
+import math
 
 import numpy as np
 import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 
-from tests.helper_fmus import typed as typed_fmus
 from aotv_cosim.output.runner import run_scenario
 from aotv_cosim.simulation.loading import load_scenario
+from tests.helper_fmus import typed as typed_fmus
 from tests.helpers import cli, one_line, write_json
 
 pytestmark = [pytest.mark.integration,
@@ -34,6 +34,9 @@ def fmus(tmp_path_factory):
     typed_fmus.typed3_fmu(folder / "Typed3Array.fmu", typed3, extra=typed_fmus.ARRAY3)
     typed_fmus.typed3_fmu(folder / "Typed3Clock.fmu", typed3, extra=typed_fmus.CLOCK3)
     typed_fmus.typed3_fmu(folder / "Typed3Token.fmu", typed3, token="{00000000-0000-0000-0000-000000000000}")
+    typed_fmus.typed3_fmu(folder / "Typed3Fixed.fmu", typed3, variable=False)
+    typed_fmus.typed3_fmu(folder / "Typed3Stateless.fmu", typed3, state=False)
+    typed_fmus.typed3_fmu(folder / "Typed3Once.fmu", typed3, once=True)
     typed_fmus.typed3_fmu(folder / "Typed3Default.fmu", typed3,
                           experiment={"startTime": 0.5, "stopTime": 1.5, "stepSize": 0.25})
     modes = typed_fmus.compile_modes(folder)
@@ -76,8 +79,15 @@ def _fmpy(fmu, values, **options):
 def test_every_fmi3_type_is_recorded_as_fmpy_reads_it(tmp_path, fmus):
     """Every output of Typed3 with its inputs at the ends of their ranges: the same rows as
     fmpy.simulate_fmu to the bit; Parquet columns of their type's width; String and Binary text."""
-    summary, frame = _run(tmp_path, fmus, _alone(EDGES), {"stop": 1.0, "step": 0.25}, formats=("csv", "parquet"))
+    expected = [{"signal": f"t.{name}", "at": "end", "value": value, "source": "its input"} for name, value in (
+        ("u32_out", 4294967295), ("i64_out", -(2 ** 53)), ("flag_out", True), ("text_out", "grüße"),
+        ("blob_out", "00c0ffee"), ("mode_out", "Ramp"))]
+    expected.append({"signal": "t.f32_out", "at": "end", "value": float(np.float32(0.1)), "tolerance": 0.0,
+                     "source": "its input, a Float32"})
+    summary, frame = _run(tmp_path, fmus, _alone(EDGES), {"stop": 1.0, "step": 0.25, "expectations": expected},
+                          formats=("csv", "parquet"))
     assert summary["status"] == "completed", summary["error"]
+    assert [e["passed"] for e in summary["expectations"]] == [True] * len(expected), summary["expectations"]
     reference = _fmpy(fmus / "Typed3.fmu", EDGES, stop_time=1.0, output_interval=0.25)
     assert np.array_equal(frame["time"].to_numpy(), reference["time"])
     for name in reference.dtype.names[1:]:
@@ -210,7 +220,7 @@ def test_error_controlled_steps_save_and_restore_fmi3_states(tmp_path, fmus):
 
 def test_times_come_from_an_fmi3_default_experiment(tmp_path, fmus):
     wiring = {"components": {"t": {"fmu": "Typed3Default.fmu", "parameters": EDGES}}, "connections": []}
-    summary, frame = _run(tmp_path, fmus, wiring, {})
+    _, frame = _run(tmp_path, fmus, wiring, {})
     assert frame["time"].tolist() == [0.5, 0.75, 1.0, 1.25, 1.5]
 
 
@@ -225,3 +235,62 @@ def test_describe_shows_fmi3_types_and_units(fmus):
     assert result.exit_code == 0
     rows = {line.split()[0]: line.split() for line in result.output.splitlines()[1:]}
     assert rows["x"][3:5] == ["Float64", "m"] and rows["u16_in"][3] == "UInt16" and rows["blob_out"][3] == "Binary"
+
+
+def test_a_stop_condition_on_an_fmi3_integer_output(tmp_path, fmus):
+    summary, frame = _run(tmp_path, fmus, _alone(EDGES), {"stop": 1.0, "step": 0.1, "stop_conditions": [
+        {"signal": "t.steps", "crosses": 2.5, "direction": "up"}]})
+    assert summary["event"]["time"] == 0.30000000000000004 and frame["t.steps"].iloc[-1] == 3
+
+
+@pytest.mark.parametrize("fmu, step, stop, message", [
+    ("Typed3Fixed.fmu", 0.1, 0.75, ("t cannot vary its communication step (canHandleVariableCommunicationStepSize "
+                                    "is false) and stop - start = 0.75 s is 7.5 steps of 0.1 s")),
+    ("Typed3Fixed.fmu", {"size": 0.1, "tolerance": {"t.x": 1e-6}}, 1.0, "t cannot vary its communication step"),
+    ("Typed3Stateless.fmu", {"size": 0.1, "tolerance": {"t.x": 1e-6}}, 1.0,
+     "t cannot save and restore its state (canGetAndSetFMUstate is false)"),
+    ("Typed3Once.fmu", 0.1, 1.0, ("t and t2 are two instances of Typed3, which can be instantiated only once per "
+                                  "process (canBeInstantiatedOnlyOncePerProcess)"))])
+def test_fmi3_capability_flags_are_honoured(tmp_path, fmus, fmu, step, stop, message):
+    components = {"t": {"fmu": str(fmus / fmu), "parameters": EDGES}}
+    if fmu == "Typed3Once.fmu":
+        components["t2"] = components["t"]
+    write_json(tmp_path / "w.json", {"components": components, "connections": []})
+    path = write_json(tmp_path / "s.json", {"system": "w.json", "stop": stop, "step": step})
+    one_line(["validate", path], message)
+
+
+def test_a_pooled_fmi3_instance_is_reset_for_the_next_run(tmp_path, fmus):
+    """A Monte Carlo worker keeps its instances between runs: the second run of the pool resets
+    the FMI 3.0 instance (fmi3Reset) and gives the first run's rows again."""
+    from types import SimpleNamespace
+
+    from aotv_cosim.simulation.master import Master
+
+    (tmp_path / "Typed3.fmu").symlink_to(fmus / "Typed3.fmu")
+    write_json(tmp_path / "w.json", _alone(EDGES))
+    scenario = load_scenario(write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1.0, "step": 0.25}))
+    pool, runs, instances = {}, [], []
+    for _ in range(2):
+        rows = []
+        outcome = Master(scenario, pool=pool).run(SimpleNamespace(record=lambda t, r, rows=rows: rows.extend(zip(t, r))))
+        assert outcome.status == "completed", outcome.error
+        runs.append([(t, bytes(r)) for t, r in rows])
+        instances.append(pool["t"])
+    assert runs[0] == runs[1] and instances[0] is instances[1] and type(instances[0]).__name__ == "Fmi3Instance"
+    assert runs[0][-1][1] != runs[0][0][1]  # x moved during a run: the second run started again from 0
+    instances[0].close()
+
+
+@pytest.mark.parametrize("step, times", [({"size": 0.1}, [0.0, 0.2, 0.4, 0.6000000000000001]),
+                                         ({"size": 0.25, "tolerance": {"t.x": 1e-9}}, [0.0, 0.125, 0.25, 1.0])])
+def test_a_terminate_request_with_decimated_records_or_error_controlled_steps(tmp_path, fmus, step, times):
+    """record_every 2: the recorded points, then the point the FMU reached when it asked.
+    Error-controlled steps: the request comes in the trial step over the whole doubled step (0.25
+    to 1 s); the accepted points, then the point the FMU reached, where its outputs are read."""
+    summary, frame = _run(tmp_path, fmus, _alone({**EDGES, "terminate_at": 0.55}),
+                          {"stop": 1.0, "step": step, "record_every": 2 if "tolerance" not in step else 1})
+    assert summary["status"] == "terminated" and frame["time"].tolist() == times
+    # its outputs where it stopped: x is the sum of rate h over the steps (rate 2 m/s), within a few
+    # ulps of rate t (the sum rounds at each of up to 6 additions)
+    assert math.isclose(frame["t.x"].iloc[-1], 2.0 * times[-1], rel_tol=8 * 2.0 ** -52)
