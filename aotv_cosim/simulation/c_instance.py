@@ -81,6 +81,8 @@ class CInstance(FmuInstance):
     """Call types of integers that may exceed +-2^53 (read back, such a value fails the run)."""
     STATE_CALLS = ()
     """The names, without prefix, of the functions that get, set and free an FMU state."""
+    FMPY_CLASS = None
+    """FMPy's class of a co-simulation FMU of this version."""
 
     def __init__(self, name: str, info, start_time: float, stop_time: float, tolerance=None):
         super().__init__(name, info, start_time)
@@ -92,9 +94,7 @@ class CInstance(FmuInstance):
         finally:
             demote_new_paths(before)
         self.component = ctypes.c_void_p(self.slave.component)
-        keep_gil = (info.model_description.generationTool or "").startswith("PythonFMU")
-        self._entry = (lambda n: holding_gil(getattr(self.slave.dll, n))) if keep_gil else (
-            lambda n: getattr(self.slave.dll, n))
+        self._keep_gil = (info.model_description.generationTool or "").startswith("PythonFMU")
         prefix = self.PREFIX
         self.raw_do_step = self._entry(f"{prefix}DoStep")
         self.raw_get_real = self._entry(f"{prefix}Get{self.FLOAT64}")
@@ -103,12 +103,17 @@ class CInstance(FmuInstance):
         self._state_calls = tuple(getattr(self.slave.dll, prefix + n) for n in self.STATE_CALLS)
         self._setup(start_time, stop_time, tolerance)
 
+    def _entry(self, name: str):
+        """The C entry point `name` of the FMU's library, GIL held for a pythonfmu FMU (`holding_gil`)."""
+        function = getattr(self.slave.dll, name)
+        return holding_gil(function) if self._keep_gil else function
+
     def _load(self, folder):
-        """The FMPy object of the FMU extracted in `folder` (`_fmpy_class`), its binary loaded;
+        """The FMPy object (`FMPY_CLASS`) of the FMU extracted in `folder`, its binary loaded;
         InputError when the binary cannot be loaded."""
         md = self.info.model_description
         try:
-            return self._fmpy_class()(guid=md.guid, unzipDirectory=str(folder),
+            return self.FMPY_CLASS(guid=md.guid, unzipDirectory=str(folder),
                                       modelIdentifier=self.info.model_identifier, instanceName=self.name)
         except Exception as exc:  # FMPy's text for a binary dlopen refuses (not a library, a missing dependency)
             if not str(exc).startswith("Failed to load shared library"):
@@ -120,10 +125,6 @@ class CInstance(FmuInstance):
                                  "with its dependencies installed") from None
 
     # ---- what each FMI version does -----------------------------------------------------------
-    @abstractmethod
-    def _fmpy_class(self):
-        """FMPy's class of a co-simulation FMU of this version."""
-
     @abstractmethod
     def _instantiate(self):
         """Instantiate the FMU through FMPy (with this instance's logger and environment)."""

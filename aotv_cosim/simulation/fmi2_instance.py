@@ -53,10 +53,8 @@ class Fmi2Instance(CInstance):
 
     PREFIX, FLOAT64, N_VALUES = "fmi2", "Real", False
     C_TYPES: ClassVar[dict] = {"Integer": ctypes.c_int, "Boolean": ctypes.c_int, "String": ctypes.c_char_p}
+    FMPY_CLASS = FMU2Slave
     STATE_CALLS = ("GetFMUstate", "SetFMUstate", "FreeFMUstate")
-
-    def _fmpy_class(self):
-        return FMU2Slave
 
     def _instantiate(self):
         self._callbacks = self._make_callbacks()

@@ -59,10 +59,8 @@ class Fmi3Instance(CInstance):
                "UInt32": ctypes.c_uint32, "Int64": ctypes.c_int64, "UInt64": ctypes.c_uint64,
                "Boolean": ctypes.c_bool, "String": ctypes.c_char_p}
     WIDE = ("Int64", "UInt64")
+    FMPY_CLASS = FMU3Slave
     STATE_CALLS = ("GetFMUState", "SetFMUState", "FreeFMUState")
-
-    def _fmpy_class(self):
-        return FMU3Slave
 
     def _instantiate(self):
         slave = self.slave

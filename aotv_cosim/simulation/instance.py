@@ -104,6 +104,8 @@ class FmuInstance(ABC):
     summary.json)."""
 
     calls = "c"
+    step_call = "fmi2DoStep"
+    """The name of the FMI function that steps the FMU, for messages."""
 
     def __init__(self, name: str, info, start_time: float):
         self.name = name
@@ -197,7 +199,7 @@ class FmuInstance(ABC):
     @abstractmethod
     def stepper(self, fresh: Slots, outputs: Slots, buffer, rollback: bool) -> Stepper:
         """f(t, h, t_new): set the Float64 (Real) inputs `fresh` from the buffer, step from t over h,
-        read the Float64 outputs `outputs` into the buffer. A refused step raises what it means
+        read the Float64 outputs `outputs` (consecutive positions) into the buffer. A refused step raises what it means
         (`StepResult` as an exception: TerminateRequest or SimulationError). rollback: the master
         may restore a state saved before the current time (FMI's noSetFMUStatePriorToCurrentPoint
         false)."""
@@ -207,6 +209,3 @@ class FmuInstance(ABC):
         if result.outcome == "terminate":
             return self.terminate_request(result.time, result.last_successful_time)
         return self.failure(self.step_call, result.time, result.status)
-
-    step_call = "fmi2DoStep"
-    """The name of the FMI function that steps the FMU, for messages."""
