@@ -297,7 +297,9 @@ def describe(target):
 @main.command("build-fmus")
 @click.argument("sources", nargs=-1, metavar="[NAME|SOURCE.py]...")
 @click.option("--out", type=UserPath(file_okay=False), help="Put the FMUs here instead of the cache.")
-def build_fmus(sources, out):
+@click.option("--fmi", "fmi_version", type=click.Choice(["2", "3"]),
+              help="FMI version of the FMUs: 2 (default) or 3; a pythonfmu3 class is always 3.")
+def build_fmus(sources, out, fmi_version):
     """Build the FMUs of fmus_src, or only the given ones: names of this package or your own FMU
     sources (SOURCE.py, any folder; see docs/writing-a-guidance-law.md). Only changed sources are
     rebuilt (content hash)."""
@@ -306,9 +308,10 @@ def build_fmus(sources, out):
 
     def body():
         refs = list(sources) or fmu_build.available_fmus()
-        with BuildProgress(total=sum(fmu_build.needs_build(r, out) for r in refs)) as progress:
+        version = int(fmi_version) if fmi_version else None
+        with BuildProgress(total=sum(fmu_build.needs_build(r, out, version) for r in refs)) as progress:
             for ref in refs:
-                progress.echo(f"{fmu_build.fmu_source(ref).stem}: {fmu_build.ensure_fmu(ref, out)}")
+                progress.echo(f"{fmu_build.fmu_source(ref).stem}: {fmu_build.ensure_fmu(ref, out, version)}")
 
     _guard(body)
 
@@ -488,7 +491,9 @@ def corridor(scenario, lift_to_drag, tolerance, bracket, out):
               help="The .ssp archive to write.")
 @click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE", help="Override a value (repeatable).")
 @click.option("--step", type=float, help="Communication step in s, overriding the scenario.")
-def export_ssp(scenario, out, sets, step):
+@click.option("--fmi", "fmi_version", type=click.Choice(["2", "3"]), default="2", show_default=True,
+              help="FMI version of this package's FMUs in the archive (other .fmu files are copied as they are).")
+def export_ssp(scenario, out, sets, step, fmi_version):
     """Write SCENARIO's system as an SSP archive (FMUs, SSD, SSV, default experiment)."""
     from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.simulation.loading import load_scenario
@@ -496,7 +501,7 @@ def export_ssp(scenario, out, sets, step):
 
     def body():
         loaded = load_scenario(scenario, parse_sets(sets, file=scenario), step)
-        path = write_ssp(loaded, writable_file(out, "--out"))
+        path = write_ssp(loaded, writable_file(out, "--out"), fmi_version=int(fmi_version))
         start, stop, every = default_experiment(path)  # the stop the system reaches (ssp.experiment)
         click.echo(f"{path}: {len(loaded.system.components)} components, "
                    f"{len(loaded.system.connections)} connections, "

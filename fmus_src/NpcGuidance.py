@@ -33,8 +33,9 @@ class NpcGuidance(CycledGuidance):
         p("cycle_period", 2.0, "s", "Guidance cycle period", min=POSITIVE)
         p("tolerance", d.tolerance, "m", "Accepted |predicted apogee - target|", min=POSITIVE)
         self.integer_parameter("max_iter", d.max_iter, "Predictions per cycle (iteration limit)", min=1)
-        p("apogee_target", d.apogee_target, "m", "Target apogee altitude (Table 4.1 exit orbit: LEO)")
-        p("h_exit", EXIT_000[0], "m", "Atmospheric interface altitude of the exit")
+        p("apogee_target", d.apogee_target, "m", "Target apogee altitude (Table 4.1 exit orbit: LEO)",
+          nominal=d.apogee_target)
+        p("h_exit", EXIT_000[0], "m", "Atmospheric interface altitude of the exit", nominal=EXIT_000[0])
         p("predictor_step", d.step, "s", "RK4 step of the predictor", min=POSITIVE)
         p("horizon", d.horizon, "s", "Longest prediction")
         p("h_floor", d.h_floor, "m", "A prediction below this altitude does not exit")

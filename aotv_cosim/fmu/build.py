@@ -2,9 +2,16 @@
 content-hash cache, compliant, reproducible.
 
 An FMU is named by its source (`fmu_source`): a name of fmus_src, or a path ending in .py (a
-user's law, see docs/writing-a-guidance-law.md; `check_source` imports it apart and returns its
-class, reporting the file and line of a failure; canGetAndSetFMUstate is declared true only for
-an AotvSlave, whose state snapshot the runtime provides).
+user's law, see docs/writing-a-guidance-law.md). The source is imported once, in a child process
+with a time limit (`check_source`, `aotv_cosim.fmu.source_check`): the build never runs the
+source's code in its own process, and gets back as data the FMU class, whether it is an
+AotvSlave (canGetAndSetFMUstate is declared true only for one, whose state snapshot the runtime
+provides) and pythonfmu's modelDescription; a failure is one error naming the file and line.
+The archive is then assembled as pythonfmu's builder assembles it (`_pythonfmu_members`), and
+the modelDescription completed where pythonfmu leaves out what FMI 2.0 requires
+(`_completed_structure`: InitialUnknowns, variabilities), so that a plain pythonfmu Fmi2Slave
+class builds too; its do_step is held to the step contract an AotvSlave's is
+(`_contract_hook`).
 
 Every FMU bundles the runtime part of this package (`RUNTIME`: the physics, the guidance laws and
 the adapter base classes) so it runs where aotv-cosim is not installed, under a name of its own
@@ -14,31 +21,36 @@ for the whole process, so with one shared name the first FMU's copy (from a fold
 have deleted since, from other sources) would serve every later one; named apart, any number of
 FMUs of any versions, in any number of systems, share a process. The build then rewrites
 the archive so that the same sources give the same bytes: the modelDescription gets a GUID
-derived from the sources and the generated XML, no generation date, and zip entries are written
-in sorted order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI
-hosts (`fmu_native`). Finally `fmpy validate` must report no problem.
+derived from the sources and the generated XML (also written to `TOKEN_FILE`, which the lean
+wrapper checks at instantiation), no generation date, and zip entries are written in sorted
+order with a fixed timestamp. On Linux the binary is patched to load in plain C FMI hosts
+(`fmu_native`), and the wrapper it holds is recorded (`WRAPPER_INFO`, `built_wrapper`). Finally
+`fmpy validate` must report no problem. With ``fmi_version=3`` the FMU is built as FMI 3.0
+instead (`aotv_cosim.fmu.build_fmi3`, also for a pythonfmu3 class).
 """
 
 import ast
 import difflib
+import functools
 import hashlib
 import io
 import os
 import re
 import shutil
-import sys
+import subprocess
 import tempfile
 import uuid
 import zipfile
+from itertools import chain
 from pathlib import Path
 from xml.etree import ElementTree
 
 import pythonfmu
-from pythonfmu.builder import FmuBuilder
 
-from aotv_cosim.errors import AotvError, BuildError, InputError
-from aotv_cosim.paths import regular_file
+from aotv_cosim.errors import BuildError, InputError
 from aotv_cosim.fmu import native as fmu_native
+from aotv_cosim.fmu import source_check
+from aotv_cosim.paths import regular_file, resolved
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
 RUNTIME = ("__init__.py", "laws.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
@@ -48,12 +60,21 @@ RUNTIME_PATTERNS = ("*.py", "*.csv")
 """Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""
 BUILD_INFO = "resources/aotv_cosim_build.txt"
 """Archive member holding the source hash an FMU was built from."""
+TOKEN_FILE = "resources/aotv_cosim_guid.txt"
+"""Archive member holding the GUID (FMI 2.0) or instantiationToken (FMI 3.0) the FMU was built with,
+one line: the lean wrapper refuses to instantiate with another (aotv_cosim/fmu/fmi_core.c)."""
+WRAPPER_INFO = "resources/aotv_cosim_wrapper.txt"
+"""Archive member naming the FMI wrapper of the FMU's Linux binary: "lean" (fmi2_lean.c) or
+"stock" (pythonfmu's; also where the binary is not patched: no compiler, not Linux)."""
+PYTHONFMU_DIR = Path(pythonfmu.__file__).resolve().parent
+"""pythonfmu's package: its modules are bundled into every FMU, its binaries are the FMUs'."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 BUILD_HOOKS = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
-BUILD_FORMAT = ("5: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
-                "under a name of its own")
+BUILD_FORMAT = ("6: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
+                "under a name of its own, GUID in resources, source inspected in a child, wrapper "
+                "recorded, plain pythonfmu classes completed and held to the step contract")
 """Version of the rewrite below; part of the source hash, so a change rebuilds cached FMUs."""
 
 
@@ -89,12 +110,12 @@ def fmu_source(ref) -> Path:
     """The source file of an FMU: fmus_src/<ref>.py for a name of this package, else `ref` itself
     when it is a path to a .py file (a user's FMU source, anywhere). InputError when neither."""
     if is_source_path(ref):
-        path = Path(ref).resolve()
+        fix = "give the path of a Python file defining one FMU class (see docs/writing-a-guidance-law.md)"
         try:
+            path = resolved(ref, what="FMU source (.py)")
             regular_file(path, what="FMU source (.py)")
         except InputError as exc:
-            raise InputError(exc.cause, file=str(ref), fix="give the path of a Python file defining one FMU "
-                             "class (see docs/writing-a-guidance-law.md)") from None
+            raise InputError(exc.cause, file=str(ref), fix=fix) from None
         return path
     if ref not in available_fmus():
         raise BuildError(f"no FMU named {ref!r} in fmus_src",
@@ -102,53 +123,17 @@ def fmu_source(ref) -> Path:
     return fmus_src_dir() / f"{ref}.py"
 
 
-def check_source(source: Path) -> type:
-    """Import a user's FMU source apart from sys.modules and return its FMU class (the concrete
-    Fmi2Slave subclass defined in it, as pythonfmu picks it: the longest class hierarchy).
-
-    Importing runs the class checks of `AotvSlave.__init_subclass__` (do_step defined, units
-    parsed when instantiated later). InputError naming the file and line of a failure."""
-    import importlib.util
-    import inspect
-    import traceback
-
-    from pythonfmu import Fmi2Slave
-
-    name = f"_aotv_fmu_source_{source.stem}"
-    spec = importlib.util.spec_from_file_location(name, source)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # dataclasses and pickling look the module up while it runs
-    try:
-        spec.loader.exec_module(module)
-    except Exception as exc:
-        frames = [f for f in traceback.extract_tb(exc.__traceback__) if Path(f.filename) == source]
-        where = f"line {frames[-1].lineno}" if frames else None
-        if isinstance(exc, SyntaxError):  # raised while compiling: the line is on the error, not in a frame
-            where = f"line {exc.lineno}" if exc.lineno else "(whole file)"
-        raise InputError(f"importing it raised {type(exc).__name__}: {exc}", file=str(source), entry=where,
-                         fix="fix the source (run `python " + source.name + "` to see the traceback)") from exc
-    finally:
-        sys.modules.pop(name, None)
-    classes = [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, Fmi2Slave)
-               and c.__module__ == name and not inspect.isabstract(c)]
-    if not classes:
-        raise InputError("defines no concrete FMU class", file=str(source), entry="(top level)",
-                         fix="define a subclass of aotv_cosim.laws.AotvSlave (or one of its guidance bases) "
-                             "with do_step and every abstract method")
-    longest = max(len(c.__mro__) for c in classes)
-    chosen = [c for c in classes if len(c.__mro__) == longest]
-    if len(chosen) > 1:
-        raise InputError(f"defines several FMU classes ({', '.join(c.__name__ for c in chosen)})",
-                         file=str(source), entry="(top level)", fix="keep one FMU class per file")
-    return chosen[0]
+def is_ours(source: Path) -> bool:
+    """True if `source` is a file of fmus_src (a failure to build it is this package's bug, a
+    BuildError; in a user's source it is bad input, an InputError)."""
+    return source.parent == fmus_src_dir()
 
 
-def saves_state(source: Path) -> bool:
-    """True if the FMU class of `source` can get and set its FMU state (an AotvSlave: see
-    `aotv_cosim.fmu.slave.SAVED_STATE`); written as canGetAndSetFMUstate."""
-    from aotv_cosim.fmu.slave import AotvSlave
-
-    return issubclass(check_source(source), AotvSlave)
+def check_source(source: Path) -> source_check.SourceClass:
+    """Import the FMU source `source` once, in a child process with a time limit, and return
+    what the build needs of its FMU class (`source_check.inspect_source`): one error naming the
+    file and line for a source that fails to import, hangs, exits, defines no FMU class or two."""
+    return source_check.inspect_source(source, ours=is_ours(source))
 
 
 def _runtime_files():
@@ -184,10 +169,11 @@ def built_hash(fmu: Path):
         return None
 
 
-def built_fmu(ref) -> Path:
+def built_fmu(ref, fmi_version=None) -> Path:
     """The FMU resolver that builds (`model.fmu_file.FmuResolver`): the up-to-date .fmu of a
     name of fmus_src or of a user's FMU source `ref` (a path ending in .py), built into the cache
-    when missing or stale (`ensure_fmu`). InputError for a name fmus_src has not, naming close ones."""
+    when missing or stale (`ensure_fmu`; `functools.partial(built_fmu, fmi_version=3)` resolves to
+    FMI 3.0 FMUs). InputError for a name fmus_src has not, naming close ones."""
     if not is_source_path(ref):
         names = available_fmus()
         if ref not in names:
@@ -196,46 +182,39 @@ def built_fmu(ref) -> Path:
             raise InputError(f"no FMU named {ref!r} in this package",
                              fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
                                  f"wiring file) or one of {', '.join(names)}")
-    return ensure_fmu(ref)
+    return ensure_fmu(ref, fmi_version=fmi_version)
 
 
-def ensure_fmu(ref, out_dir=None) -> Path:
+def ensure_fmu(ref, out_dir=None, fmi_version=None) -> Path:
     """Path of an up-to-date FMU for fmus_src/<ref>.py, or for the user's source file `ref` (a
     path ending in .py), building it if missing or stale.
 
     Without out_dir the FMU lives in the cache as <name>-<hash16>.fmu; with it, as <name>.fmu
-    (name: the source's file name without .py).
+    (name: the source's file name without .py). fmi_version: 2 or 3 (`aotv_cosim.fmu.build_fmi3`);
+    None builds FMI 2.0, or 3.0 for a pythonfmu3 class.
     """
+    if _fmi3(ref, fmi_version):
+        return _build_fmi3().ensure_fmu(ref, out_dir)
     target, digest = _target(ref, out_dir)
     source = fmu_source(ref)
     name = source.stem
     if target.is_file() and built_hash(target) == digest:
         return target
-    if is_source_path(ref):
-        check_source(source)  # a broken user source is one error line, before any progress is shown
+    found = check_source(source)  # a broken source is one error line, before any progress is shown
     for hook in BUILD_HOOKS:
         hook(name, "start")
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="aotv_build_") as tmp:
-        raw = _pythonfmu_build(source, Path(tmp))
-        _forget_module(source)
+        members = _pythonfmu_members(source, found)
+        _contract_hook(members, source, found)
         staged = Path(tmp) / "final.fmu"
-        _rewrite_reproducibly(raw, staged, digest)
+        _rewrite_reproducibly(members, staged, digest, source, found)
         _validate(staged, source)
         os.replace(staged, target) if staged.stat().st_dev == target.parent.stat().st_dev \
             else shutil.move(staged, target)
     for hook in BUILD_HOOKS:
         hook(name, "done")
     return target
-
-
-def _forget_module(source: Path) -> None:
-    """Drop the module pythonfmu imported from `source` to build it (sys.modules[<stem>]): an FMU
-    instantiated later in this process imports its own bundled copy, not a stale one from an
-    earlier build of an edited source."""
-    module = sys.modules.get(source.stem)
-    if module is not None and Path(getattr(module, "__file__", "") or "").resolve() == source.resolve():
-        del sys.modules[source.stem]
 
 
 def _target(ref, out_dir=None):
@@ -245,36 +224,65 @@ def _target(ref, out_dir=None):
     return (Path(out_dir) / f"{name}.fmu" if out_dir else cache_dir() / f"{name}-{digest[:16]}.fmu"), digest
 
 
-def needs_build(ref, out_dir=None) -> bool:
-    """True if `ensure_fmu(ref, out_dir)` would build (no FMU, or one from other sources)."""
+def needs_build(ref, out_dir=None, fmi_version=None) -> bool:
+    """True if `ensure_fmu(ref, out_dir, fmi_version)` would build (no FMU, or one from other sources)."""
+    if _fmi3(ref, fmi_version):
+        return _build_fmi3().needs_build(ref, out_dir)
     target, digest = _target(ref, out_dir)
     return not (target.is_file() and built_hash(target) == digest)
 
 
-def build_all(out_dir=None) -> dict:
+def build_all(out_dir=None, fmi_version=2) -> dict:
     """Ensure every FMU of fmus_src is built; returns {name: path}."""
-    return {name: ensure_fmu(name, out_dir) for name in available_fmus()}
+    return {name: ensure_fmu(name, out_dir, fmi_version) for name in available_fmus()}
 
 
-def _pythonfmu_build(source: Path, tmp: Path) -> Path:
-    name = source.stem
-    stage = tmp / "stage" / "aotv_cosim"
+def _build_fmi3():
+    from aotv_cosim.fmu import build_fmi3  # it imports this module
+
+    return build_fmi3
+
+
+def _fmi3(ref, fmi_version) -> bool:
+    """True when `ref` is built as FMI 3.0 (`build_fmi3.resolved_version`)."""
+    return (fmi_version is not None or is_source_path(ref)) and _build_fmi3().resolved_version(ref, fmi_version) == 3
+
+
+def _pythonfmu_members(source: Path, found) -> dict:
+    """The archive members {name: bytes} pythonfmu 0.7's builder writes for the FMU class `found`
+    (`source_check.SourceClass`) of `source`, with this package's runtime as its project files:
+    the module and slavemodule.txt naming it, pythonfmu's modules and this package's runtime under
+    resources/, pythonfmu's binaries named by the model identifier, and the modelDescription with
+    canGetAndSetFMUstate true for an AotvSlave (its snapshot is the runtime's; not serializable)."""
+    members = {f"resources/{source.name}": source.read_bytes(), "resources/slavemodule.txt": source.stem.encode()}
+    for path in sorted(PYTHONFMU_DIR.glob("*.py")):
+        members[f"resources/pythonfmu/{path.name}"] = path.read_bytes()
     for path in _runtime_files():
-        dest = stage / path.relative_to(PACKAGE_DIR)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(path, dest)
-    saved_path = list(sys.path)
-    try:
-        # canGetAndSetFMUstate: AotvSlave snapshots its state (fmu/slave.py); not serializable
-        return FmuBuilder.build_FMU(source, dest=tmp / f"{name}.fmu",
-                                    project_files=[stage], canGetAndSetFMUstate=saves_state(source))
-    except AotvError:
-        raise
-    except Exception as exc:  # pythonfmu raises anything from the user's module
-        raise BuildError(f"pythonfmu failed: {exc}", file=str(source),
-                         fix="fix the FMU module; run `aotv-cosim --debug build-fmus` for the traceback") from exc
-    finally:
-        sys.path[:] = saved_path
+        members[f"resources/aotv_cosim/{path.relative_to(PACKAGE_DIR).as_posix()}"] = path.read_bytes()
+    binaries = PYTHONFMU_DIR / "resources" / "binaries"
+    for path in sorted(chain(*(binaries.rglob(f"*.{ext}") for ext in ("dll", "so", "dylib")))):
+        folder = path.relative_to(binaries).parent.as_posix()
+        members[f"binaries/{folder}/{found.model_identifier}{path.suffix}"] = path.read_bytes()
+    root = ElementTree.fromstring(found.model_description)
+    root.find("CoSimulation").set("canGetAndSetFMUstate", str(found.aotv_slave).lower())
+    members["modelDescription.xml"] = ElementTree.tostring(root, encoding="UTF-8")
+    return members
+
+
+CONTRACT_HOOK = ("\n\nfrom aotv_cosim.fmu.slave import enforce_step_contract as _aotv_enforce_step_contract  "
+                 "# added by aotv-cosim\n_aotv_enforce_step_contract({name})\n")
+"""Lines appended to the module of a plain pythonfmu class in its FMU (`_contract_hook`)."""
+
+
+def _contract_hook(members: dict, source: Path, found) -> None:
+    """Hold the do_step of a plain pythonfmu class (not an AotvSlave, whose own definition does)
+    to the step contract in every host: `CONTRACT_HOOK` appended to its module in the FMU, after
+    the author's last line (their line numbers unchanged)."""
+    if found.aotv_slave:
+        return
+    member = f"resources/{source.name}"
+    text, encoding = source_check.decode_source(members[member])
+    members[member] = (text.rstrip("\n") + CONTRACT_HOOK.format(name=found.class_name)).encode(encoding)
 
 
 def runtime_package(digest: str) -> str:
@@ -324,19 +332,60 @@ def isolate(members: dict, name: str, digest: str) -> dict:
         if member == "resources/slavemodule.txt":
             data = module.encode()
         elif target.endswith(".py") and prefix != "resources/pythonfmu/" and target.startswith("resources/"):
-            data = renamed_imports(data.decode(), renames, member).encode()
+            text, encoding = source_check.decode_source(data)  # a user's module may declare its encoding
+            data = renamed_imports(text, renames, member).encode(encoding)
         out[target] = data
     return out
 
 
-def _rewrite_reproducibly(raw: Path, out: Path, digest: str) -> None:
-    with zipfile.ZipFile(raw) as src:
-        members = {info.filename: src.read(info) for info in src.infolist() if not info.is_dir()}
-    members = isolate(members, raw.stem, digest)
+def _rewrite_reproducibly(members: dict, out: Path, digest: str, source: Path, found) -> None:
+    """Write the archive `out` from pythonfmu's `members`: the runtime isolated, the description
+    completed and reproducible, the Linux binary patched (`_patched_binary`), the build recorded."""
+    members = isolate(members, source.stem, digest)
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
-    fmu_native.patch_linux_binary(members, raw.stem)
+    members[TOKEN_FILE] = (ElementTree.fromstring(members["modelDescription.xml"]).get("guid") + "\n").encode()
+    members[WRAPPER_INFO] = (_patched_binary(members, source, found) + "\n").encode()
     members[BUILD_INFO] = (digest + "\n").encode()
     write_reproducible_zip(out, members)
+
+
+def _patched_binary(members: dict, source: Path, found) -> str:
+    """Patch the Linux binary in `members` (`fmu_native.patch_linux_binary`) and return the
+    wrapper it holds ("lean" or "stock"). A compiler or patchelf that fails is a build error
+    with its message (InputError for a user's source: the build of it fails), never a traceback."""
+    try:
+        fmu_native.patch_linux_binary(members, found.model_identifier)
+    except (OSError, subprocess.CalledProcessError) as exc:
+        if isinstance(exc, subprocess.CalledProcessError):
+            said = " ".join((exc.stderr or b"").decode(errors="replace").split())[-300:]
+            cause = f"{Path(exc.cmd[0]).name} exited with status {exc.returncode}" + (f": {said}" if said else "")
+        else:
+            cause = str(exc)
+        error = BuildError if is_ours(source) else InputError
+        raise error(f"building the FMU's native wrapper failed: {cause}",
+                    file=str(source), entry=f"binaries/linux64/{found.model_identifier}.so",
+                    fix=f"check the C compiler (gcc) and patchelf, or set {fmu_native.WRAPPER_VARIABLE}=stock "
+                        "(pythonfmu's wrapper, no compiler needed)") from None
+    return fmu_native.wrapper() if fmu_native.patch_reason() is None else "stock"
+
+
+def built_wrapper(fmu: Path):
+    """The FMI wrapper of an FMU built here ("lean" or "stock", `WRAPPER_INFO`), or None for an
+    FMU from elsewhere (or built before the wrapper was recorded)."""
+    try:
+        stat = os.stat(fmu)
+    except OSError:
+        return None
+    return _recorded_wrapper(str(fmu), stat.st_size, stat.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=256)
+def _recorded_wrapper(path: str, size: int, mtime: int):
+    try:
+        with zipfile.ZipFile(path) as archive:
+            return archive.read(WRAPPER_INFO).decode().strip()
+    except (OSError, KeyError, zipfile.BadZipFile):
+        return None
 
 
 def write_reproducible_zip(out: Path, members: dict) -> None:
@@ -351,16 +400,19 @@ def write_reproducible_zip(out: Path, members: dict) -> None:
 
 
 def _reproducible_description(xml: bytes, digest: str) -> bytes:
-    """Drop the generation date, state every variability, derive the GUID from sources and XML.
+    """Drop the generation date, state every variability, complete the model structure
+    (`_completed_structure`), derive the GUID from sources and XML.
 
-    pythonfmu leaves out the variability of inputs and outputs (FMI 2.0's default, continuous);
-    it is written out so that tools which do not apply the default still show it.
+    pythonfmu leaves out the variability of inputs and outputs (FMI 2.0's default, continuous,
+    which an Integer, Boolean or String cannot have); it is written out so that tools which do
+    not apply the default still show it.
     """
     root = ElementTree.fromstring(xml)
     root.attrib.pop("generationDateAndTime", None)
     for var in root.iter("ScalarVariable"):
         if "variability" not in var.attrib:
             var.set("variability", "continuous" if var.find("Real") is not None else "discrete")
+    _completed_structure(root)
     root.set("guid", "")
     ElementTree.indent(root, space="  ")
     body = ElementTree.tostring(root, encoding="unicode")
@@ -371,12 +423,36 @@ def _reproducible_description(xml: bytes, digest: str) -> bytes:
     return out.getvalue() + b"\n"
 
 
+INITIAL_UNKNOWN = {"output", "calculatedParameter"}
+"""Causalities whose variables are InitialUnknowns (FMI 2.0 sec. 2.2.8, co-simulation) unless
+their `initial` is "exact"."""
+
+
+def _completed_structure(root) -> None:
+    """Write ModelStructure/InitialUnknowns where pythonfmu leaves it out (a plain Fmi2Slave
+    class; an AotvSlave writes its own, with dependencies): every output and calculated
+    parameter whose `initial` is not "exact" (the default, calculated), without dependencies
+    (FMI 2.0: then it may depend on every known), in index order. fmpy validate requires it."""
+    structure = root.find("ModelStructure")
+    if structure is None or structure.find("InitialUnknowns") is not None:
+        return
+    unknowns = [str(i) for i, var in enumerate(root.find("ModelVariables").iter("ScalarVariable"), 1)
+                if var.get("causality") in INITIAL_UNKNOWN and var.get("initial", "calculated") != "exact"]
+    if not unknowns:
+        return
+    initial = ElementTree.Element("InitialUnknowns")
+    for index in unknowns:
+        ElementTree.SubElement(initial, "Unknown", index=index)
+    position = 1 if structure.find("Outputs") is not None else 0  # Outputs, Derivatives, InitialUnknowns
+    structure.insert(position + (structure.find("Derivatives") is not None), initial)
+
+
 def _validate(fmu: Path, source: Path) -> None:
     from fmpy.validation import validate_fmu
 
     problems = validate_fmu(str(fmu))
     if problems:  # in a user's source (a class declaring no variable) it is bad input, in fmus_src a bug
-        error = BuildError if source.parent == fmus_src_dir() else InputError
+        error = BuildError if is_ours(source) else InputError
         raise error("fmpy validate: " + " | ".join(problems),
                     file=str(source), entry="modelDescription.xml",
                     fix="declare every variable through AotvSlave.parameter/input/output")

@@ -31,10 +31,11 @@ ENTRY = ("h", "v", "gamma")
 
 def declare_exit_targets(slave):
     """Declare the exit targets hf, vf, gammaf on `slave`, default seed 000 Table 4.1 (exit 90 km,
-    8150 m/s, 0.0144 rad)."""
+    8150 m/s, 0.0144 rad); hf and vf with those values as their nominals (the plausibility check
+    of a value given in km or km/s)."""
     hf, vf, gammaf = EXIT_000
-    slave.parameter("hf", hf, "m", "Exit altitude target")
-    slave.parameter("vf", vf, "m/s", "Exit speed target")
+    slave.parameter("hf", hf, "m", "Exit altitude target", nominal=hf)
+    slave.parameter("vf", vf, "m/s", "Exit speed target", nominal=vf)
     slave.parameter("gammaf", gammaf, "rad", "Exit flight-path angle target")
 
 
@@ -56,8 +57,8 @@ def declare_known_solution(slave, with_k: bool = False):
     slave.integer_parameter("start_from_nominal", 0, "1: continue the solve from the known solution "
                             "(h0_nom ... tf_nom); 0: start from the Table 8.1 fits (seed 000)", min=0, max=1)
     p = slave.parameter
-    p("h0_nom", h0, "m", "Entry altitude of the known solution")
-    p("v0_nom", v0, "m/s", "Entry speed of the known solution", min=POSITIVE)
+    p("h0_nom", h0, "m", "Entry altitude of the known solution", nominal=h0)  # Table 4.1 entry
+    p("v0_nom", v0, "m/s", "Entry speed of the known solution", min=POSITIVE, nominal=v0)
     p("gamma0_nom", gamma0, "rad", "Entry flight-path angle of the known solution")
     p("a_nom", a, "m/s2", "Intercept a of the known solution (a start: converged or not)")
     p("b_nom", b, "m/s3", "Slope b of the known solution")
@@ -80,7 +81,7 @@ def declare_plane_change_problem(slave):
     (Sec. 3.7.2), MRRV polar and mass (Sec. 3.7.1) and the anchored atmosphere and planet
     (extraction A2, A3). They must match the vehicle and Atmosphere FMUs of the system."""
     p = slave.parameter
-    p("z_f", 60.0e3, "m", "Exit altitude target (Sec. 3.7.2)")
+    p("z_f", 60.0e3, "m", "Exit altitude target (Sec. 3.7.2)", nominal=60.0e3)
     p("gamma_f", math.radians(1.0), "rad", "Exit flight-path angle target (Sec. 3.7.2)")
     p("E_star", mrrv.E_STAR, "1", "Maximum lift-to-drag ratio E*")
     p("CL_star", mrrv.CL_STAR, "1", "Lift coefficient at (L/D)max")
@@ -225,10 +226,10 @@ class NominalTrackingGuidance(AotvSlave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         h0, v0, gamma0 = ENTRY_000
-        self.parameter("h0_nom", h0, "m", "Design entry altitude of the nominal trajectory")
-        self.parameter("v0_nom", v0, "m/s", "Design entry speed of the nominal trajectory")
+        self.parameter("h0_nom", h0, "m", "Design entry altitude of the nominal trajectory", nominal=h0)
+        self.parameter("v0_nom", v0, "m/s", "Design entry speed of the nominal trajectory", nominal=v0)
         self.parameter("gamma0_nom", gamma0, "rad", "Design entry flight-path angle of the nominal")
-        self.parameter("tf", TF_000, "s", "Fixed final time of the nominal")
+        self.parameter("tf", TF_000, "s", "Fixed final time of the nominal", nominal=TF_000)
         declare_exit_targets_and_k(self)
         self.input("h", h0, "m", "Measured altitude", min=0.0)
         self.input("v", v0, "m/s", "Measured speed", min=POSITIVE)

@@ -36,6 +36,8 @@ pythonfmu, the standard library and other bundled modules.
 
 import copy
 import functools
+import math
+import numbers
 import re
 import sys
 import traceback
@@ -181,15 +183,40 @@ def _abstract_names(cls) -> set:
     return names
 
 
-def _logging_traceback(do_step):
-    """do_step, logging the traceback of any exception it raises at fmi2Fatal before re-raising
-    it: pythonfmu 0.7 turns the exception into fmi2Fatal with its message only, so the author's
-    file and line reach the master's log (summary.json error_detail) this way. An exception is
-    logged once, by the innermost wrapped do_step."""
+STEP_CONTRACT = """What ``do_step(self, current_time, step_size)`` returns: True when the step is
+done; False to refuse it (fmi2Discard: the instance stays usable and the run fails with the
+message that the FMU refused the step at t = ..., or the error-controlled stepping retries it with
+a shorter step); never None (a forgotten `return`: an error naming the file and line of the
+do_step). An exception fails the run with its traceback (file and line) in the FMU's log."""
+"""The step contract as text (the extension module and the docs quote it)."""
+
+
+class StepContractError(TypeError):
+    """do_step returned None (or something else that is neither true nor false)."""
+
+
+def checked_step(do_step):
+    """do_step held to `STEP_CONTRACT` in every host, the C wrapper's and the direct calls alike
+    (both call this method and map its outcome: an exception to fmi2Fatal, False to fmi2Discard):
+
+    - an exception is logged with its traceback at fmi2Fatal before it is re-raised (pythonfmu
+      0.7 turns it into fmi2Fatal with its message only, so the author's file and line reach the
+      master's log, summary.json error_detail, this way); logged once, by the innermost wrapper;
+    - None raises `StepContractError` naming the author's file and the line of the do_step;
+    - a false value is returned with an error logged saying the step was refused at t = ... (unless
+      the step's last log message already is an error: its own reason), so that no host takes the
+      discard for a request to end the simulation (pythonfmu's wrappers answer fmi2Terminated true
+      after any discard; the master's `refused_step` reads a discard ending in an error as a
+      failure);
+    - True is returned at once (the common case costs one identity test)."""
+    code = getattr(do_step, "__code__", None)
+    where = (f"{_authors_file(code.co_filename)}, line {code.co_firstlineno}" if code is not None
+             else getattr(do_step, "__qualname__", "do_step"))
+
     @functools.wraps(do_step)
     def wrapper(self, current_time, step_size):
         try:
-            return do_step(self, current_time, step_size)
+            result = do_step(self, current_time, step_size)
         except Exception as exc:
             if not getattr(exc, "_aotv_logged", False):
                 exc._aotv_logged = True
@@ -197,23 +224,63 @@ def _logging_traceback(do_step):
                 self.log(f"{type(self).__name__}.do_step raised at t = {current_time!r} s:\n{text}",
                          Fmi2Status.fatal)
             raise
+        if result is True:
+            return result
+        return _judged(self, result, current_time, where)
+    wrapper._aotv_contract = True
     return wrapper
+
+
+def _judged(slave, result, current_time, where):
+    """The outcome of a do_step at current_time (s) that returned `result`, not True: a true value
+    as is, None an error, a false value a refusal (`checked_step`)."""
+    if result is None:
+        message = (f"{where}: {type(slave).__name__}.do_step returned None at t = {current_time!r} s (a "
+                   "missing `return`?); return True when the step is done, False to refuse it")
+        slave.log(message, Fmi2Status.fatal)
+        error = StepContractError(message)
+        error._aotv_logged = True
+        raise error
+    try:
+        done = bool(result)
+    except Exception:  # noqa: BLE001 - as the wrappers count it: an error in the truth test is a step done
+        return result
+    if not done:
+        queue = slave.log_queue
+        if not (queue and int(getattr(queue[-1], "status", 0)) >= Fmi2Status.error):
+            slave.log(f"{type(slave).__name__} refused the step at t = {current_time!r} s: do_step returned "
+                      f"{result!r} ({where})", Fmi2Status.error)
+    return result
+
+
+def enforce_step_contract(cls):
+    """Hold the do_step of `cls`, a plain pythonfmu Fmi2Slave class, to `STEP_CONTRACT` (an
+    AotvSlave's is, from its definition: `AotvSlave.__init_subclass__`). The build appends a call
+    of this to the module of such a class in the FMU (`aotv_cosim.fmu.build`)."""
+    own = cls.do_step
+    if not getattr(own, "_aotv_contract", False):
+        cls.do_step = checked_step(own)
+    return cls
 
 
 _BUNDLED_NAME = re.compile(r"^(?P<stem>.+)_[0-9a-f]{16}\.py$")
 """File name of a module bundled into an FMU: the build appends the source hash to its stem."""
 
 
+def _authors_file(filename: str) -> str:
+    """`filename` of a module, or its author's file name (``MyLaw.py``) for the FMU's bundled
+    copy ``resources/MyLaw_<hash16>.py``."""
+    bundled = _BUNDLED_NAME.match(filename.rpartition("/")[2])
+    return f"{bundled['stem']}.py" if bundled else filename
+
+
 def _authors_traceback(exc) -> str:
     """The traceback of `exc` without the logging wrapper's frame, each bundled module named by
-    its author's file name (``MyLaw.py`` for the FMU's ``resources/MyLaw_<hash16>.py``; the line
-    numbers are the author's: the build rewrites only import lines, one line for one)."""
+    its author's file name (`_authors_file`; the line numbers are the author's: the build
+    rewrites only import lines, one line for one, and appends after the last)."""
     frames = traceback.extract_tb(exc.__traceback__.tb_next)
     for frame in frames:
-        base = frame.filename.rpartition("/")[2]
-        bundled = _BUNDLED_NAME.match(base)
-        if bundled:
-            frame.filename = f"{bundled['stem']}.py"
+        frame.filename = _authors_file(frame.filename)
     return "".join(["Traceback (most recent call last):\n", *frames.format(),
                     *traceback.format_exception_only(type(exc), exc)])
 
@@ -240,12 +307,12 @@ class AotvSlave(Fmi2Slave):
         """Check the class when it is defined: a concrete FMU class (no abstract method left)
         defines ``do_step`` in its own body, since pythonfmu 0.7's runtime finds the slave class
         through the class that owns do_step (with an inherited one, instantiation corrupts the
-        FMU's module and every later instance fails). Each own do_step logs the traceback of an
-        exception it raises (`_logging_traceback`)."""
+        FMU's module and every later instance fails). Each own do_step is held to
+        `STEP_CONTRACT` (`checked_step`: tracebacks logged, None an error, False a refusal)."""
         super().__init_subclass__(**kwargs)
         own = vars(cls).get("do_step")
         if own is not None and not getattr(own, "__isabstractmethod__", False):
-            cls.do_step = _logging_traceback(own)
+            cls.do_step = checked_step(own)
         elif own is None and not _abstract_names(cls):
             raise TypeError(f"class {cls.__qualname__} ({cls.__module__}) must define do_step itself, "
                             "not inherit it: add `def do_step(self, current_time, step_size)` to the class "
@@ -276,12 +343,11 @@ class AotvSlave(Fmi2Slave):
         within [min, max] (SI, inclusive); `nominal`: its typical magnitude (FMI nominal), from
         which the master warns about a value given in the wrong unit (`output.plausibility`)."""
         setattr(self, name, float(start))
-        if nominal is not None:
-            self._nominals[name] = float(nominal)
+        self._declare_nominal(name, nominal)
         variability = Fmi2Variability.tunable if tunable else Fmi2Variability.fixed
         self._register(Real(name, causality=Fmi2Causality.parameter, variability=variability,
                             description=description), unit)
-        self._declare_range(name, min, max)
+        self._declare_range(name, min, max, start)
 
     def integer_parameter(self, name, start, description, min=None, max=None):
         """Declare an Integer parameter (a mode switch or a seed); min/max: its allowed codes."""
@@ -289,14 +355,17 @@ class AotvSlave(Fmi2Slave):
         self.register_variable(Integer(name, causality=Fmi2Causality.parameter,
                                        variability=Fmi2Variability.fixed,
                                        description=description))
-        self._declare_range(name, min, max)
+        self._declare_range(name, min, max, start)
 
-    def input(self, name, start, unit, description, min=None, max=None):
+    def input(self, name, start, unit, description, min=None, max=None, nominal=None):
         """Declare a continuous Real input `name` (attribute of the same name) in `unit`; outputs
-        depending on it read 0 while it lies outside [min, max] (module docstring)."""
+        depending on it read 0 while it lies outside [min, max] (module docstring); `nominal`: its
+        typical magnitude (FMI nominal), from which the master warns about a value given to it
+        unconnected in the wrong unit, as for a parameter."""
         setattr(self, name, float(start))
+        self._declare_nominal(name, nominal)
         var = self._register(Real(name, causality=Fmi2Causality.input, description=description), unit)
-        self._declare_range(name, min, max)
+        self._declare_range(name, min, max, start)
         if min is not None or max is not None:
             self._input_ranges[name] = self._ranges[name]
             self._ranged_vrs.add(var.value_reference)
@@ -317,10 +386,29 @@ class AotvSlave(Fmi2Slave):
         self._initial_deps[name] = tuple(depends_on if initial_depends_on is None
                                          else initial_depends_on)
 
-    def _declare_range(self, name, low, high):
-        if low is not None or high is not None:
-            self._ranges[name] = (-float("inf") if low is None else low,
-                                  float("inf") if high is None else high)
+    def _declare_range(self, name, low, high, start=None):
+        """Record [low, high] (None: unbounded) of variable `name`; ValueError naming it for a
+        bound that is not a number, low above high, or a `start` outside."""
+        if low is None and high is None:
+            return
+        bounds = (-math.inf if low is None else low, math.inf if high is None else high)
+        if any(isinstance(b, bool) or not isinstance(b, numbers.Real) or math.isnan(b) for b in bounds):
+            raise ValueError(f"{name}: min and max must be numbers, not {low!r} and {high!r}")
+        if bounds[0] > bounds[1]:
+            raise ValueError(f"{name}: min {low!r} is above max {high!r}")
+        if start is not None and not bounds[0] <= start <= bounds[1]:
+            raise ValueError(f"{name}: start {start!r} lies outside [min, max] = [{bounds[0]!r}, {bounds[1]!r}]")
+        self._ranges[name] = bounds
+
+    def _declare_nominal(self, name, nominal):
+        """Record the FMI nominal of Real `name`; ValueError naming it unless finite and > 0 (FMI
+        2.0: the typical magnitude of the quantity, e.g. 7045.0 for a scale height in m)."""
+        if nominal is None:
+            return
+        if isinstance(nominal, bool) or not isinstance(nominal, numbers.Real) or not 0.0 < nominal < math.inf:
+            raise ValueError(f"{name}: nominal {nominal!r} must be a finite number above 0 (the quantity's "
+                             "typical magnitude in its SI unit)")
+        self._nominals[name] = float(nominal)
 
     def _register(self, var, unit):
         try:

@@ -13,6 +13,8 @@ once. Bundled into the FMUs (``fmu_build.RUNTIME``).
 import math
 import sys
 
+from pythonfmu.enums import Fmi2Status
+
 from aotv_cosim.fmu.slave import POSITIVE, AotvSlave
 from aotv_cosim.physics import aero, constants, orbit, point_mass
 from aotv_cosim.physics.atmosphere import exponential_density
@@ -133,7 +135,11 @@ class VehicleSlave(AotvSlave):
         self.x = point_mass.integrate(self.x, step_size, self.max_substep, args)
         self.revision += 1
         self.heat_load += 0.5 * step_size * (q_start + self._heating())
-        return all(map(math.isfinite, self.x))
+        if all(map(math.isfinite, self.x)):
+            return True
+        self.log(f"{type(self).__name__}: step refused, the state is not finite after it: "
+                 f"x = {self.x!r} (r, theta, phi, v, gamma, psi)", Fmi2Status.error)
+        return False
 
     # ---- outputs ----------------------------------------------------------------------------
     def _specific_forces(self):

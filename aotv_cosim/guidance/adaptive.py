@@ -53,9 +53,11 @@ def adaptive_step(theta, state_si, desired_si, u_desired: float, k_ball: float =
     `adaptive_delta_u` and `theta_rate` with A, B and e of `planar.jacobian_a`, `input_b` and
     `km_error`, evaluated in floats with the same operations in the same order (twice per step,
     where numpy's cost per call on 3-element arrays was most of the law's): the same numbers to
-    the bit (`tests/campaigns/test_campaign_laws_floats.py`). A e stays a numpy product: its BLAS kernel
-    may fuse multiply-adds, which Python floats cannot reproduce. Sums start from 0.0 as BLAS's
-    do (the sign of a zero result).
+    the bit where OpenBLAS's dot kernel sums left to right (Haswell, Zen), within a few ulps of
+    the sum of the products' magnitudes where it sums otherwise or fuses multiply-adds (SkylakeX,
+    Prescott; `tests/campaigns/test_campaign_laws_floats.py`). A e stays a numpy product: its BLAS
+    kernel may fuse multiply-adds, which Python floats cannot reproduce. Sums start from 0.0 as
+    BLAS's do (the sign of a zero result).
     """
     c = AotvConstants.km(k_ball)
     h_d, v_d, gamma = desired_si

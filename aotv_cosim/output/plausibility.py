@@ -3,8 +3,9 @@
 A value outside an FMU's declared `min`/`max` is refused (`model.ranges`); these are values that
 lie in range but are implausible, so the run goes on and its summary says why it may be wrong:
 
-- a parameter given more than `FACTOR` times above or below the FMI `nominal` its FMU declares
-  (the typical magnitude of the quantity in its SI unit): `atmosphere.scale_height = 7.045 m is
+- a parameter (or an unconnected input) given more than `FACTOR` times above or below the FMI
+  `nominal` its FMU declares (the typical magnitude of the quantity in its SI unit; a user's law
+  declares it with `nominal=` in `aotv_cosim.laws`): `atmosphere.scale_height = 7.045 m is
   1000x below its nominal 7045 m; km given for m?`. 30 catches a km typed for m (1000x) and
   degrees typed for radians (57.3x) and lets through the spread of real cases (entry speeds of
   1.8-8.2 km/s against a nominal 8.2 km/s);
@@ -44,13 +45,17 @@ def _hint(unit: str, ratio: float) -> str:
     return f"check the value and its unit ({unit or 'dimensionless'})"
 
 
+GIVEN = ("parameter", "input")
+"""Causalities of the variables a system gives values to (an input: while unconnected)."""
+
+
 def unit_slips(system) -> list:
-    """A warning for every parameter value of `system` (wiring, scenario and --set values) more
-    than FACTOR from the nominal its FMU declares."""
+    """A warning for every parameter or input value of `system` (wiring, scenario and --set
+    values) more than FACTOR from the nominal its FMU declares."""
     warnings = []
     for name, comp in system.components.items():
         declared = {v.name: v for v in comp.fmu.model_description.modelVariables
-                    if v.nominal is not None and v.causality == "parameter"}
+                    if v.nominal is not None and v.causality in GIVEN}
         for var, value in comp.parameters.items():
             variable = declared.get(var)
             if variable is None or isinstance(value, bool) or not isinstance(value, (int, float)) or value == 0:

@@ -67,7 +67,9 @@ class RunSummary:
     """How the master called the FMUs: "direct" (this package's FMUs called in its own
     interpreter) or "c" (every FMU through its FMI C library); per FMU in `fmus`."""
     fmus: dict
-    """{component: {"fmu", "file", "guid", "fmi_calls"}}."""
+    """{component: {"fmu", "file", "guid", "fmi_calls", "wrapper"}}; wrapper: the FMI wrapper in
+    the FMU's Linux binary as its build recorded it, "lean" (this package's fmi2_lean.c) or
+    "stock" (pythonfmu's), None for an FMU not built by this package."""
     versions: dict
     """{"aotv_cosim", "python"} versions."""
     plots: list = field(default_factory=list)

@@ -44,6 +44,7 @@ from typing import Optional
 
 import numpy as np
 
+from aotv_cosim.fmu.build import built_wrapper
 from aotv_cosim.simulation import interrupts, step_doubling, watchdog
 from aotv_cosim.model.capabilities import fixed_step_components
 from aotv_cosim.simulation.coupling import Coupling
@@ -159,7 +160,8 @@ class Master:
                 inst = kind(name, comp.fmu, s.start, s.stop)
             self.instances[name] = kept[name] = inst
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
-                                  "guid": comp.fmu.guid, "fmi_calls": inst.calls}
+                                  "guid": comp.fmu.guid, "fmi_calls": inst.calls,
+                                  "wrapper": built_wrapper(comp.fmu.path)}
         drawn = {}
         for signal, value in self.overrides.items():
             comp, var = signal.split(".", 1)

@@ -43,11 +43,15 @@ PARAMETER_SET = "scenario"
 """Name of the ParameterSet of every exported SSV (one name for the whole system)."""
 
 
-def export_ssp(scenario, out) -> Path:
-    """Write `scenario` (a loaded Scenario) as the SSP archive `out`; returns its path."""
+def export_ssp(scenario, out, fmi_version=2) -> Path:
+    """Write `scenario` (a loaded Scenario) as the SSP archive `out`; returns its path.
+
+    fmi_version 3: this package's FMUs (a name of fmus_src or a .py source in the wiring) go into
+    the archive as their FMI 3.0 builds (`aotv_cosim.fmu.build_fmi3`: the same variables, the same
+    outputs); an .fmu file is copied as it is."""
     out = Path(out)
     system = scenario.system
-    sources, fmu_files = _fmu_members(system)
+    sources, fmu_files = _fmu_members(system, fmi_version)
     members = {name: path.read_bytes() for name, path in fmu_files.items()}
     ssv_sources = {}
     for comp in system.components.values():
@@ -79,7 +83,7 @@ def _write_atomically(out: Path, members: dict) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def _fmu_members(system):
+def _fmu_members(system, fmi_version=2):
     """({component: archive path of its FMU}, {archive path: FMU file}); one file per distinct FMU."""
     sources, files, by_guid = {}, {}, {}
     for comp in system.components.values():
@@ -89,9 +93,19 @@ def _fmu_members(system):
             if member in files:  # two different FMUs with one model identifier
                 member = f"resources/{fmu.model_identifier}_{comp.name}.fmu"
             by_guid[fmu.guid] = member
-            files[member] = fmu.path
+            files[member] = _fmu_file(system, comp, fmi_version)
         sources[comp.name] = by_guid[fmu.guid]
     return sources, files
+
+
+def _fmu_file(system, comp, fmi_version):
+    """The file of the component's FMU: for FMI 3.0, the FMI 3.0 build of this package's FMU."""
+    ref = comp.fmu_ref
+    if fmi_version == 2 or ref.endswith(".fmu"):
+        return comp.fmu.path
+    from aotv_cosim.fmu.build import ensure_fmu, is_source_path
+
+    return ensure_fmu(system.path.parent / ref if is_source_path(ref) else ref, fmi_version=fmi_version)
 
 
 def _checked(root, schema_file, member) -> bytes:

@@ -15,11 +15,13 @@ import subprocess
 import sys
 import textwrap
 import zipfile
+from xml.etree import ElementTree
 
 import pytest
 from pythonfmu.builder import FmuBuilder
 
 from aotv_cosim.fmu import native
+from aotv_cosim.fmu.build import TOKEN_FILE
 
 pytestmark = [
     pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the wrapper is built for Linux"),
@@ -141,6 +143,8 @@ def probes(tmp_path_factory):
     raw = FmuBuilder.build_FMU(tmp / "Probe.py", dest=tmp / "raw", canGetAndSetFMUstate=True)
     with zipfile.ZipFile(raw) as archive:
         members = {info.filename: archive.read(info) for info in archive.infolist() if not info.is_dir()}
+    guid = ElementTree.fromstring(members["modelDescription.xml"]).get("guid")
+    members[TOKEN_FILE] = f"{guid}\n".encode()  # as the package's build writes it (the lean wrapper checks it)
     paths = {}
     for wrapper in native.WRAPPERS:
         patched = dict(members)

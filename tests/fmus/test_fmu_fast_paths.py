@@ -6,7 +6,7 @@
   the entry-tracking law's outputs) follow every set and every step: each equals the physics or
   guidance function evaluated afresh on the FMU's current state and inputs.
 
-The slave classes run in this process (`fmu_build.check_source`), without an FMU archive.
+The slave classes run in this process (`source_check.fmu_class`), without an FMU archive.
 """
 
 import math
@@ -14,6 +14,7 @@ import math
 import pytest
 
 from aotv_cosim.fmu import build as fmu_build
+from aotv_cosim.fmu import source_check
 from aotv_cosim.physics import aero
 from aotv_cosim.physics import shuttle_pitch as sp
 
@@ -22,7 +23,7 @@ pytestmark = pytest.mark.integration  # builds and runs the package's FMUs
 
 def slave(name: str):
     """A fresh instance of the FMU class of fmus_src/<name>.py, initialized at t = 0."""
-    cls = fmu_build.check_source(fmu_build.fmus_src_dir() / f"{name}.py")
+    cls = source_check.fmu_class(fmu_build.fmus_src_dir() / f"{name}.py")
     instance = cls(instance_name=name, resources=".")
     instance.setup_experiment(0.0, 300.0, None)
     instance.enter_initialization_mode()

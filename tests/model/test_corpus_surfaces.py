@@ -94,8 +94,9 @@ SOURCES = {
     "Imports.py": (b"import no_such_module_for_aotv\n", "line 1", "ModuleNotFoundError: No module named"),
     "NoStep.py": (b"from aotv_cosim.laws import AotvSlave\n\n\nclass NoStep(AotvSlave):\n    pass\n",
                   "(top level)", "defines no concrete FMU class"),
-    "Binary.py": (bytes(range(256)), "(whole file)", "SyntaxError: source code string cannot contain null bytes"),
-    "Latin1.py": (b"# caf\xe9\nx = 1\n", "(top level)", "defines no concrete FMU class"),
+    "Binary.py": (bytes(range(256)), "line 2", "SyntaxError: byte 0x80 is not valid utf-8"),
+    "Latin1.py": (b"# caf\xe9\nx = 1\n", "line 1", "SyntaxError: byte 0xe9 is not valid utf-8"),  # PEP 263
+    "Exits.py": (b"import sys\nsys.exit(0)\n", "line 2", "importing it called sys.exit(0)"),
 }
 
 
