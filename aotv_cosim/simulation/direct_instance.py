@@ -38,6 +38,7 @@ from xml.etree import ElementTree
 
 from fmpy.model_description import CoSimulation, ModelDescription, ScalarVariable
 
+from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.model.fmu_file import FmuInfo, Variable
 from aotv_cosim.simulation.instance import STATUS, FmuInstance, StepResult
 from aotv_cosim.simulation.unpacked import demote_new_paths, extracted
@@ -118,26 +119,23 @@ def info_of_class(cls: type, name: str = "fake", feedthrough: dict = None) -> Fm
 
 
 
-GUID_FILE = "resources/aotv_cosim_guid.txt"
-"""Archive member in which the build records the GUID it gave the FMU."""
-
-
 def build_guid(folder: Path):
     """The GUID the build gave the FMU extracted in `folder`, or None when it cannot be known.
 
-    Read from `GUID_FILE` when the build wrote it. An FMU built before that (BUILD_FORMAT 5 of
-    `fmu.build`) has its GUID derived by the build from the source hash (`fmu.build.BUILD_INFO`)
+    Read from `fmu.build.TOKEN_FILE` when the build wrote it (as the lean wrapper does). An FMU
+    built before that (BUILD_FORMAT 5 of `fmu.build`) has its GUID derived by the build from the
+    source hash (`fmu.build.BUILD_INFO`)
     and its own modelDescription: a version-5 UUID of the SHA-256 of the hash followed by the
     description with an empty guid attribute, indented by two spaces (what
     `fmu.build._reproducible_description` wrote). That rule is applied again here to the
     modelDescription as it is now, so a GUID edited since the build (or any other edit of the
     description) gives another value than the one in the file."""
     try:
-        return (folder / GUID_FILE).read_text().strip()
+        return (folder / fmu_build.TOKEN_FILE).read_text().strip()
     except OSError:
         pass
     try:
-        digest = (folder / "resources" / "aotv_cosim_build.txt").read_text().strip()
+        digest = (folder / fmu_build.BUILD_INFO).read_text().strip()
         root = ElementTree.fromstring((folder / "modelDescription.xml").read_bytes())
     except (OSError, ElementTree.ParseError):
         return None

@@ -117,9 +117,13 @@ class Fmi3Instance(CInstance):
         """terminate when terminateSimulation is set after ok, warning or discard (the time
         reached: t_new, or t + h, after a step that was not discarded; lastSuccessfulTime after a
         discard); a discard without it, or error and fatal, as in FMI 2.0; earlyReturn, which
-        the master does not allow, an error."""
+        the master does not allow, an error. As for FMI 2.0, a discard whose last log message is
+        an error is a failure even with terminateSimulation: this package's FMI 3.0 wrapper
+        answers a refused step (a do_step returning False after logging why) so, as FMI 3.0
+        leaves the out-arguments of a discard to the FMU."""
         terminate, early, last = flags
-        if terminate.value and status <= 2:
+        failed_loudly = status == 2 and bool(self.messages) and self.messages[-1][0] in ("error", "fatal")
+        if terminate.value and status <= 2 and not failed_loudly:
             reached = last.value if status == 2 else (t_new if t_new is not None else t + h)
             return StepResult("terminate", t, status, reached if math.isfinite(reached) else None,
                               self.last_message())

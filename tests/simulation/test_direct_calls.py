@@ -230,31 +230,35 @@ def _with_member(source, target, name, change):
     return target
 
 
-@pytest.mark.parametrize("edit", ["guid in modelDescription", "guid file", "guid file agrees"])
+@pytest.mark.parametrize("edit", ["guid in modelDescription", "guid file", "guid file agrees",
+                                  "no guid file, guid in modelDescription", "no guid file"])
 def test_the_direct_path_refuses_a_guid_the_fmu_was_not_built_with(tmp_path, edit):
     """As the C wrapper refuses to instantiate with another GUID, so does the direct path: the
-    build's GUID is read from resources/aotv_cosim_guid.txt when the FMU has it, else derived again
-    by the build's rule from its source hash and modelDescription."""
+    build's GUID is read from resources/aotv_cosim_guid.txt when the FMU has it, else (an FMU built
+    before that file) derived again by the build's rule from its source hash and modelDescription."""
     import fmpy
 
-    from aotv_cosim.fmu.build import built_fmu
-    from aotv_cosim.simulation.direct_instance import GUID_FILE
+    from aotv_cosim.fmu.build import TOKEN_FILE, built_fmu
     from tests.helpers import write_json
 
     source = built_fmu("Atmosphere")
     guid = fmpy.read_model_description(str(source)).guid
     other = "{00000000-0000-5000-8000-000000000000}"
-    if edit == "guid in modelDescription":
+    if edit.startswith("no guid file"):
+        source = _with_member(source, tmp_path / "without.fmu", TOKEN_FILE, lambda _: None)
+    if edit.endswith("guid in modelDescription"):
         _with_member(source, tmp_path / "Atm.fmu", "modelDescription.xml",
-                           lambda xml: xml.replace(guid.encode(), other.encode()))
+                     lambda xml: xml.replace(guid.encode(), other.encode()))
+    elif edit == "no guid file":
+        _with_member(source, tmp_path / "Atm.fmu", TOKEN_FILE, lambda _: None)
     else:
-        _with_member(source, tmp_path / "Atm.fmu", GUID_FILE,
-                           lambda _: (guid if edit == "guid file agrees" else other).encode())
+        _with_member(source, tmp_path / "Atm.fmu", TOKEN_FILE,
+                     lambda _: (guid if edit == "guid file agrees" else other).encode())
     write_json(tmp_path / "w.json", {"components": {"a": {"fmu": "Atm.fmu", "parameters": {"h": 80000.0}}},
                                      "connections": []})
     path = write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1.0, "step": 0.5})
     summary = write_run(load_scenario(path), tmp_path / "out", make_plots=False, fmi_calls="direct").summary.as_json()
-    if edit == "guid file agrees":
+    if edit in ("guid file agrees", "no guid file"):
         assert summary["status"] == "completed", summary["error"]
         assert summary["fmus"]["a"]["fmi_calls"] == "direct"
     else:

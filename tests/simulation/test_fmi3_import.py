@@ -294,3 +294,32 @@ def test_a_terminate_request_with_decimated_records_or_error_controlled_steps(tm
     # its outputs where it stopped: x is the sum of rate h over the steps (rate 2 m/s), within a few
     # ulps of rate t (the sum rounds at each of up to 6 additions)
     assert math.isclose(frame["t.x"].iloc[-1], 2.0 * times[-1], rel_tol=8 * 2.0 ** -52)
+
+
+@pytest.mark.parametrize("kind", [1, 2, 3], ids=["raise", "error-status", "nan"])
+def test_this_packages_fmu_built_as_fmi3_fails_a_run_as_its_fmi2_build(kind, tmp_path, wiring_doc):
+    """The FaultInjector (fmus_src/FaultInjector.py) built as FMI 3.0 raises, refuses its step after
+    logging why, or outputs NaN at t = 2 s in the seed-000 system: the same status, stop reason and
+    rows as its FMI 2.0 build through C. A refused step is an fmi3Discard with terminateSimulation
+    true whose last message is an error: a failure, as the FMI 2.0 discard with fmi2Terminated is."""
+    from aotv_cosim.fmu import build_fmi3
+
+    if build_fmi3.unavailable() is not None:
+        pytest.skip(build_fmi3.unavailable())
+    from aotv_cosim.fmu.build import built_fmu
+    from aotv_cosim.output.runner import write_run
+
+    wiring_doc["components"]["fault"] = {"fmu": "Fault.fmu", "parameters": {"fault_kind": kind, "fault_time": 2.0}}
+    wiring_doc["connections"].remove("guidance.u -> actuator.command")
+    wiring_doc["connections"] += ["guidance.u -> fault.u", "fault.y -> actuator.command"]
+    runs = {}
+    for version in (2, 3):
+        folder = tmp_path / f"fmi{version}"
+        folder.mkdir()
+        (folder / "Fault.fmu").symlink_to(built_fmu("FaultInjector", fmi_version=version))
+        write_json(folder / "w.json", wiring_doc)
+        path = write_json(folder / "s.json", {"system": str(folder / "w.json"), "stop": 5.0, "step": 0.1,
+                                              "record": ["vehicle.h", "guidance.u", "fault.y"]})
+        summary = write_run(load_scenario(path), folder / "out", make_plots=False, fmi_calls="c").summary.as_json()
+        runs[version] = (summary["status"], summary["stop_reason"], (folder / "out" / "timeseries.csv").read_bytes())
+    assert runs[2][0] == "failed" and runs[3] == runs[2]
