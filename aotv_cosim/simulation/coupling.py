@@ -132,7 +132,7 @@ class Coupling:
     def _sweep_actions(sweep):
         return [a for name in sweep.order for a in sweep.before[name]] + sweep.finish
 
-    def _slots(self, kind, name, names, buffer_positions=None):
+    def _slots(self, kind, name, names):
         """{call type: Slots} of the variables `names` of component `name`: an input's values at
         its source's position in the buffer, an output's at its own; Float64 (Real) first."""
         info = self.instances[name].info
