@@ -11,19 +11,22 @@ from pathlib import Path
 import pandas as pd
 
 from aotv_cosim.errors import InputError
+from aotv_cosim.model.variable_types import KIND
 
 COLUMNS = ("variable", "causality", "variability", "type", "unit", "start", "min", "max", "description")
 
 
 def _typed(text, type_):
-    """A modelDescription attribute (a string) as a number of the variable's type."""
+    """A modelDescription attribute (a string) as a number of the variable's type (`type_`, its
+    declared FMI 2.0 or 3.0 type)."""
+    kind = KIND.get(type_)
     if text is None:
         return None
-    if type_ == "Real":
+    if kind == "Real":
         return float(text)
-    if type_ in ("Integer", "Enumeration"):
+    if kind in ("Integer", "Enumeration"):
         return int(text)
-    if type_ == "Boolean":
+    if kind == "Boolean":
         return text in ("true", "1")
     return text
 

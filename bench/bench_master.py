@@ -17,7 +17,7 @@ from types import SimpleNamespace
 from fmpy.fmi2 import FMU2Slave
 
 from aotv_cosim.simulation import ordering
-from aotv_cosim.simulation.fmi_instance import extracted
+from aotv_cosim.simulation.unpacked import extracted
 from aotv_cosim.simulation.master import Master
 from aotv_cosim.studies.reference import reference_run
 from aotv_cosim.output.runner import recorded_columns

@@ -100,13 +100,15 @@ _INTACT = set()
 """(path, size, mtime) of the archives whose members this process found intact."""
 
 
-def check_fmu_members(path, model_identifier: str, *, file=None, entry=None) -> None:
+def check_fmu_members(path, model_identifier: str, *, fmi_version="2.0", file=None, entry=None) -> None:
     """Refuse an FMU without the co-simulation binary this platform loads
-    (binaries/<platform>/<modelIdentifier><extension>, so also one whose modelIdentifier names
-    no binary), or with a member whose data fails its CRC check (read, not extracted)."""
-    from fmpy import platform, sharedLibraryExtension
+    (binaries/<platform>/<modelIdentifier><extension>, the platform named as FMI `fmi_version`
+    names it, so also one whose modelIdentifier names no binary), or with a member whose data
+    fails its CRC check (read, not extracted)."""
+    from fmpy import platform, platform_tuple, sharedLibraryExtension
 
     path = Path(path)
+    platform = platform if fmi_version == "2.0" else platform_tuple
     binary = f"binaries/{platform}/{model_identifier}{sharedLibraryExtension}"
     with zipfile.ZipFile(path) as archive:
         names = archive.namelist()

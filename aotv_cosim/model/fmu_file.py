@@ -1,6 +1,11 @@
 """FMU files as the engine reads them: resolving a wiring's FMU reference, checking the archive,
 and the modelDescription's variables and per-variable feedthrough (`FmuInfo`).
 
+FMI 2.0 and FMI 3.0 co-simulation FMUs are read. What an FMI 3.0 FMU may declare that this
+master does not run is refused when the FMU is read, in one line naming the feature
+(`_fmi3_refusals`): array variables the wiring could reach, clocks, an FMU for scheduled
+execution or model exchange only.
+
 Feedthrough is read per variable from ModelStructure (`Outputs` dependencies; none declared means
 the output depends on every input); initial feedthrough adds `InitialUnknowns`.
 """
@@ -14,7 +19,11 @@ from fmpy import read_model_description
 
 from aotv_cosim.model.archives import check_fmu_members, check_sizes
 from aotv_cosim.errors import InputError
+from aotv_cosim.model.variable_types import KIND, call_type
 from aotv_cosim.paths import regular_file, resolved
+
+VERSIONS = ("2.0", "3.0")
+"""The fmiVersion values of the FMUs the master runs."""
 
 FmuResolver = Callable[[Union[str, Path]], Union[Path, "FmuInfo"]]
 """Gives the .fmu file of a wiring's FMU reference that is not a .fmu path: a name of this
@@ -27,7 +36,10 @@ may give an `FmuInfo` instead of a file: an in-process slave class with no FMU f
 
 @dataclass(frozen=True)
 class Variable:
-    """One scalar variable of an FMU, as its modelDescription declares it."""
+    """One scalar variable of an FMU, as its modelDescription declares it: `type` its kind
+    (Real, Integer, Boolean, String, Enumeration: how the master exchanges and records it,
+    `variable_types.KIND`), `fmi_type` the FMI type it is declared with (Float32, UInt8, Binary...
+    in FMI 3.0; the same as `type` in FMI 2.0)."""
 
     name: str
     vr: int
@@ -37,6 +49,11 @@ class Variable:
     unit: str
     start: object
     description: str
+    fmi_type: str = None
+
+    def __post_init__(self):
+        if self.fmi_type is None:
+            object.__setattr__(self, "fmi_type", self.type)
 
 
 @dataclass
@@ -56,6 +73,15 @@ class FmuInfo:
     @property
     def model_identifier(self):
         return self.model_description.coSimulation.modelIdentifier
+
+    @property
+    def fmi_version(self) -> str:
+        """"2.0" or "3.0"."""
+        return self.model_description.fmiVersion
+
+    def call_type(self, name: str) -> str:
+        """The FMI type of the get/set functions of variable `name` (`variable_types.call_type`)."""
+        return call_type(self.fmi_version, self.variables[name].fmi_type)
 
 
 def resolve_fmu(ref: str, base: Path, fmus: FmuResolver, *, file=None, entry=None) -> "Path | FmuInfo":
@@ -98,7 +124,8 @@ def check_archive(path: Path, *, file=None, entry=None) -> None:
 
 
 def read_fmu(path: Path, *, file, entry) -> FmuInfo:
-    """Read an FMU's modelDescription into an FmuInfo; InputError if missing or corrupt."""
+    """Read an FMU's modelDescription into an FmuInfo; InputError if missing or corrupt, or if it
+    is not a co-simulation FMU of FMI 2.0 or 3.0 this master can run."""
     try:
         regular_file(path, what=".fmu file", file=file, entry=entry)
     except InputError as exc:
@@ -111,19 +138,49 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
         raise
     except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
         raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
-                         fix="give a valid FMI 2.0 co-simulation FMU")
-    if md.fmiVersion != "2.0" or md.coSimulation is None:
-        raise InputError(f"{path.name} is not an FMI 2.0 co-simulation FMU", file=file, entry=entry,
-                         fix="export the FMU for FMI 2.0 co-simulation")
-    check_fmu_members(path, md.coSimulation.modelIdentifier, file=file, entry=entry)
-    variables = {v.name: Variable(v.name, v.valueReference, v.type, v.causality, v.variability,
+                         fix="give a valid FMI 2.0 or 3.0 co-simulation FMU")
+    if md.fmiVersion not in VERSIONS or md.coSimulation is None:
+        only = " (it is for scheduled execution only)" if getattr(md, "scheduledExecution", None) else ""
+        raise InputError(f"{path.name} is not an FMI 2.0 or 3.0 co-simulation FMU{only}", file=file, entry=entry,
+                         fix="export the FMU for FMI 2.0 or 3.0 co-simulation")
+    if md.fmiVersion == "3.0":
+        refused = _fmi3_refusals(md)
+        if refused:
+            cause, fix = refused
+            raise InputError(f"{path.name} {cause}", file=file, entry=entry, fix=fix)
+    check_fmu_members(path, md.coSimulation.modelIdentifier, fmi_version=md.fmiVersion, file=file, entry=entry)
+    variables = {v.name: Variable(v.name, v.valueReference, KIND[v.type], v.causality, v.variability,
                                   v.unit or (v.declaredType.unit if v.declaredType else None) or "",
-                                  v.start, v.description or "")
+                                  v.start, v.description or "", v.type)
                  for v in md.modelVariables}
     inputs = [v.name for v in md.modelVariables if v.causality == "input"]
     feedthrough = _dependencies(md.outputs, inputs)
     initial = _dependencies(md.initialUnknowns, inputs)
     return FmuInfo(path, md, variables, feedthrough, {**feedthrough, **initial})
+
+
+REACHABLE = ("parameter", "input", "output", "structuralParameter")
+"""Causalities of the variables a wiring can set, connect or record."""
+
+
+def _fmi3_refusals(md):
+    """(cause, fix) of what an FMI 3.0 co-simulation FMU declares that the master does not run,
+    the cause the rest of a sentence after the FMU's name, or None: array variables a wiring could
+    reach (FMI 3.0 arrays), Clock variables and clocked variables (clocks). Event mode and early
+    return are not refused: the master never asks for them (eventModeUsed and earlyReturnAllowed
+    false), which every co-simulation FMU must accept."""
+    def listed(names):
+        return ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
+
+    arrays = [v.name for v in md.modelVariables if v.dimensions and v.causality in REACHABLE]
+    if arrays:
+        return (f"declares array variables ({listed(arrays)}): FMI 3.0 arrays are not supported by this master",
+                "export the FMU with scalar parameters, inputs and outputs")
+    clocks = [v.name for v in md.modelVariables if v.type == "Clock" or v.clocks]
+    if clocks:
+        return (f"declares clocks or clocked variables ({listed(clocks)}): FMI 3.0 clocks are not supported "
+                "by this master", "export the FMU without clocks")
+    return None
 
 
 def _dependencies(unknowns, inputs):

@@ -22,7 +22,8 @@ from aotv_cosim.errors import AotvError, InputError, raise_if_any
 from aotv_cosim.model.fmu_file import FmuInfo, FmuResolver, Variable, read_fmu, resolve_fmu
 from aotv_cosim.paths import resolved
 from aotv_cosim.model.ranges import check_range
-from aotv_cosim.model.variable_types import declared_type_name, enumeration_value, items
+from aotv_cosim.model.variable_types import (FLOAT64_CALLS, INTEGER_RANGE, declared_type_name,
+                                             enumeration_value, items, lossless)
 from aotv_cosim.model.ssp_load import read_ssp
 
 
@@ -115,20 +116,44 @@ def check_value(var: Variable, value, *, file, entry, fmu=None):
           "Integer": isinstance(value, int) and not isinstance(value, bool),
           "Boolean": isinstance(value, bool),
           "String": isinstance(value, str)}.get(var.type, False)
+    declared = var.fmi_type
     if not ok:
-        return [InputError(f"{var.name} is {var.type}, got {_shown(value)}", file=file, entry=entry,
-                           fix=f"give {_a(var.type)} {var.type} value" + (f" in {var.unit}" if var.unit else ""))]
+        return [InputError(f"{var.name} is {declared}, got {_shown(value)}", file=file, entry=entry,
+                           fix=f"give {_a(declared)} {declared} value" + (f" in {var.unit}" if var.unit else ""))]
     if var.type == "Real" and not math.isfinite(value):
         return [InputError(f"{var.name} must be finite, got {value!r}", file=file, entry=entry,
                            fix="give a finite number")]
+    if declared == "Float32" and abs(value) > FLOAT32_MAX:
+        return [InputError(f"{var.name} is a Float32, got {value!r}", file=file, entry=entry,
+                           fix=f"give a number within +-{FLOAT32_MAX:.8g}")]
+    if declared == "Binary":
+        return [] if _hexadecimal(value) else [
+            InputError(f"{var.name} is Binary, got {_shown(value)}", file=file, entry=entry,
+                       fix="give its bytes as hexadecimal text, two digits a byte, e.g. '666f6f'")]
     if var.type == "String" and ("\0" in value or not _utf8(value)):
         return [InputError(f"{var.name} is a String, got {_shown(value)} (a NUL character or text that is not "
                            "UTF-8)", file=file, entry=entry,
                            fix="give UTF-8 text without NUL characters (an FMI String is a NUL-ended UTF-8 C string)")]
-    if var.type == "Integer" and not -2**31 <= value < 2**31:
-        return [InputError(f"{var.name} is a 32-bit Integer, got {value}", file=file, entry=entry,
-                           fix="give an integer between -2147483648 and 2147483647")]
+    if var.type == "Integer":
+        low, high = INTEGER_RANGE[declared]
+        if not low <= value <= high:
+            what = "a 32-bit Integer" if declared == "Integer" else _a(declared) + " " + declared
+            return [InputError(f"{var.name} is {what}, got {value}", file=file, entry=entry,
+                               fix=f"give an integer between {low} and {high}")]
     return []
+
+
+FLOAT32_MAX = 3.4028234663852886e38
+"""The largest finite Float32 value."""
+
+
+def _hexadecimal(text: str) -> bool:
+    """True if `text` is bytes written as hexadecimal digits, two per byte (a Binary value)."""
+    try:
+        bytes.fromhex(text)
+    except ValueError:
+        return False
+    return len(text) % 2 == 0 and " " not in text
 
 
 def _utf8(text: str) -> bool:
@@ -289,17 +314,20 @@ def _check_connection(conn, components, file, entry):
     out = components[conn.source].fmu.variables[conn.output]
     inp = components[conn.target].fmu.variables[conn.input]
     if conn.as_type is not None:
-        if out.type not in ("Integer", "Boolean") or inp.type != conn.as_type:
-            problems.append(InputError(f"cannot convert {out.type} -> {inp.type} (as {conn.as_type})",
+        if out.type not in ("Integer", "Boolean") or inp.fmi_type not in FLOAT64_CALLS:
+            problems.append(InputError(f"cannot convert {out.fmi_type} -> {inp.fmi_type} (as {conn.as_type})",
                                        file=file, entry=entry,
-                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input"))
+                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input (FMI 3.0: Float64)"))
         return problems
-    if out.type != inp.type:
-        convertible = out.type in ("Integer", "Boolean") and inp.type == "Real"
-        problems.append(InputError(f"type mismatch: {out.type} -> {inp.type}", file=file, entry=entry,
+    if not lossless(out.fmi_type, inp.fmi_type):
+        convertible = out.type in ("Integer", "Boolean") and inp.fmi_type in FLOAT64_CALLS
+        narrower = out.type == inp.type and out.type in ("Integer", "Real")
+        problems.append(InputError(f"type mismatch: {out.fmi_type} -> {inp.fmi_type}", file=file, entry=entry,
                                    fix="connect variables of the same type" + (
                                        ", or write 'source.output -> target.input (as Real)' to convert"
-                                       if convertible else "")))
+                                       if convertible else "") + (
+                                       f", or into a type that holds every {out.fmi_type} value (an integer into a "
+                                       "wider one, Float32 into Float64)" if narrower else "")))
     elif out.type == "Enumeration" and (declared_type_name(components[conn.source].fmu, conn.output)
                                         != declared_type_name(components[conn.target].fmu, conn.input)):
         problems.append(InputError(

@@ -4,7 +4,8 @@
 Python API's `run(out=None)`, or `--format parquet`); it offers the same `close` and `table` as
 `results.TimeSeriesWriter`. `units_of` gives each column's unit as the FMU's modelDescription
 declares it (SI, "1" for dimensionless, "" when an FMU declares none). `write_parquet` writes
-time and Real columns as float64 fields, Integer and Enumeration ones as int32, Boolean ones as
+time and Real columns as float64 fields, Integer and Enumeration ones as int32 (int64 when a value
+needs it: an FMI 3.0 UInt32, Int64, UInt64), Boolean ones as
 bool and String ones as string, each field's unit in its metadata under b"unit".
 """
 
@@ -62,7 +63,8 @@ def write_parquet(path, columns, times, rows, units, decoder=None) -> Path:
     kinds = ["Real"] + [decoder.kind(c) if decoder is not None else "Real" for c in columns]
     arrow = {"Real": pa.float64(), "Integer": pa.int32(), "Enumeration": pa.int32(), "Boolean": pa.bool_(),
              "String": pa.string()}
-    fields = [pa.field(n, arrow[k], metadata={b"unit": units.get(n, "").encode()}) for n, k in zip(names, kinds)]
+    fields = [pa.field(n, pa.from_numpy_dtype(d.dtype) if k in ("Integer", "Enumeration") else arrow[k],
+                       metadata={b"unit": units.get(n, "").encode()}) for n, k, d in zip(names, kinds, data)]
     schema = pa.schema(fields, metadata={b"units": json.dumps({n: units.get(n, "") for n in names}).encode()})
     table = pa.Table.from_arrays([pa.array(d, type=f.type) for d, f in zip(data, fields)], schema=schema)
     tmp = path.with_name(path.name + ".part")

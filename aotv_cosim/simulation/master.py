@@ -51,7 +51,8 @@ from aotv_cosim.simulation.coupling import Coupling
 from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.simulation.interrupts import Interrupted
-from aotv_cosim.simulation.fmi_instance import FmuInstance
+from aotv_cosim.simulation.fmi2_instance import Fmi2Instance
+from aotv_cosim.simulation.fmi3_instance import Fmi3Instance
 from aotv_cosim.simulation.rows import CHUNK, Recorder, Rows
 from aotv_cosim.model.ranges import RangeWatch
 from aotv_cosim.model.scenario import crossing
@@ -95,6 +96,19 @@ FMI_CALLS_DEFAULT = "direct"
 of the stock one's (bench/bench_fmi_calls.py)."""
 
 
+C_INSTANCES = {"2.0": Fmi2Instance, "3.0": Fmi3Instance}
+"""fmiVersion -> the `instance.FmuInstance` that calls such an FMU through its C library."""
+
+
+def instance_class(info, fmi_calls: str) -> type:
+    """The `instance.FmuInstance` implementation that runs the FMU `info` when the run asks for
+    `fmi_calls`: an FMU this package built called directly when asked ("direct"), every other
+    one through its C library for its FMI version."""
+    if fmi_calls == "direct" and built_here(info):
+        return DirectInstance
+    return C_INSTANCES[info.fmi_version]
+
+
 def signals_to_read(scenario):
     """Every output the master reads: connected sources, records, stop and expectation signals."""
     wanted = [f"{c.source}.{c.output}" for c in scenario.system.connections]
@@ -136,18 +150,17 @@ class Master:
         s = self.scenario
         kept = self.pool if self.pool is not None else {}
         for name, comp in s.system.components.items():
-            direct = self.fmi_calls == "direct" and built_here(comp.fmu)
+            kind = instance_class(comp.fmu, self.fmi_calls)
             inst = kept.get(name)
-            if inst is not None and inst.info is comp.fmu and not inst.broken and \
-                    getattr(inst, "direct", False) == direct:
+            if inst is not None and inst.info is comp.fmu and not inst.broken and type(inst) is kind:
                 inst.reset(s.start, s.stop)
             else:
-                if inst is not None and getattr(inst, "direct", False) != direct and not inst.broken:
-                    inst.close()  # a pooled instance of the other call path
-                inst = (DirectInstance if direct else FmuInstance)(name, comp.fmu, s.start, s.stop)
+                if inst is not None and not inst.broken:
+                    inst.close()  # a pooled instance of another FMU or call path
+                inst = kind(name, comp.fmu, s.start, s.stop)
             self.instances[name] = kept[name] = inst
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
-                                  "guid": comp.fmu.guid, "fmi_calls": "direct" if direct else "c",
+                                  "guid": comp.fmu.guid, "fmi_calls": inst.calls,
                                   "wrapper": built_wrapper(comp.fmu.path)}
         drawn = {}
         for signal, value in self.overrides.items():

@@ -62,10 +62,10 @@ def _alarm(signum, frame):
         raise StepLimitReached()
 
 
-def timeout_error(limit: float, t: float, component=None, file=None) -> StepTimeout:
+def timeout_error(limit: float, t: float, component=None, file=None, call="fmi2DoStep") -> StepTimeout:
     """The StepTimeout of a step from `t` (s) that took more than `limit` s (component: the FMU
-    that was stepping, when known)."""
-    who = f"fmi2DoStep of {component} did not return" if component else "the step did not end"
+    that was stepping, when known; call: its step function)."""
+    who = f"{call} of {component} did not return" if component else "the step did not end"
     return StepTimeout(f"step timeout: {who} within {limit:g} s at t = {t:.6g} s", file=file,
                        entry=component,
                        fix="the results up to this time are saved; fix the FMU's code, or raise "
@@ -73,9 +73,10 @@ def timeout_error(limit: float, t: float, component=None, file=None) -> StepTime
                        component=component or "master", time=t)
 
 
-def limited(advance, limit):
+def limited(advance, limit, step_calls=None):
     """`advance(t, step, t_new)` with every call limited to `limit` s of wall-clock time by the
-    monitor of `armed` (None or 0, or outside the main thread: `advance` itself)."""
+    monitor of `armed` (None or 0, or outside the main thread: `advance` itself); step_calls:
+    {component: the name of its step function} for the message (default fmi2DoStep)."""
     if not limit or threading.current_thread() is not threading.main_thread():
         return advance
     progress = PROGRESS
@@ -89,7 +90,8 @@ def limited(advance, limit):
         except (SimulationError, StepLimitReached) as exc:
             if not _fired:
                 raise
-            raise timeout_error(limit, t, *_stepping(exc)) from None
+            component, file = _stepping(exc)
+            raise timeout_error(limit, t, component, file, (step_calls or {}).get(component, "fmi2DoStep")) from None
         finally:
             progress[2] = False
     return guarded
@@ -101,7 +103,7 @@ def _stepping(exc):
     the master's own code between two FMU calls), else (None, None)."""
     if isinstance(exc, SimulationError) and exc.component:
         return exc.component, exc.file
-    from aotv_cosim.simulation.fmi_instance import FmuInstance
+    from aotv_cosim.simulation.instance import FmuInstance
 
     found, tb = None, exc.__traceback__
     while tb is not None:

@@ -2,8 +2,8 @@
 path: `--fmi-calls c`): an FMU whose modelDescription GUID was changed fails at instantiation
 with the FMU's own message, and one whose modelDescription declares a Real input an Enumeration
 fails at the first fmi2SetInteger. FMPy and the C hosts: tests/fmus/test_fmi3_export.py and
-tests/fmus/test_c_host_fmi3.py. (The direct in-process path does not go through the wrapper: the
-fmi3import branch makes it read the same resources/aotv_cosim_guid.txt.)
+tests/fmus/test_c_host_fmi3.py. (The direct in-process path does not go through the wrapper: it
+reads the same resources/aotv_cosim_guid.txt, tests/simulation/test_direct_calls.py.)
 """
 
 import json

@@ -1,9 +1,12 @@
-"""Test FMUs with every FMI 2.0 variable type, built by the importer tests.
+"""Test FMUs with every FMI 2.0 and FMI 3.0 variable type, built by the importer tests.
 
 - `Counter` and `Sink` (pythonfmu): Integer, Boolean and String outputs, inputs and parameters.
 - `Modes` (plain C, tests/fmi2_modes.c compiled with gcc): an Enumeration input and output, an
   Integer and a Boolean output, a terminate request, a discarded step and a fixed-step check; its modelDescription
   is written here with the capability flags a test asks for (one binary, several FMUs).
+- `Typed3` (plain C, FMI 3.0, tests/helper_fmus/fmi3_typed.c): every FMI 3.0 scalar type in and
+  out, a terminate request, a discarded step, FMU states; its modelDescription is written here,
+  with an array variable or a clock when a test asks for one (one binary, several FMUs).
 """
 
 import shutil
@@ -216,3 +219,100 @@ def modes_fmu(path: Path, library: Path, variable=True, once=False, experiment=N
 
 def have_gcc() -> bool:
     return shutil.which("gcc") is not None
+
+
+TYPED3_TOKEN = "{5e1d6b1a-0c1e-4a4b-9f1e-6d0de0a00003}"
+"""The instantiation token compiled into fmi3_typed.c."""
+
+TYPED3_PAIRS = [("f32", "Float32", 10, 'start="0"'), ("i8", "Int8", 12, 'start="0"'), ("u8", "UInt8", 14, 'start="0"'),
+                ("i16", "Int16", 16, 'start="0"'), ("u16", "UInt16", 18, 'start="0"'),
+                ("i32", "Int32", 20, 'start="0"'), ("u32", "UInt32", 22, 'start="0"'),
+                ("i64", "Int64", 24, 'start="0"'), ("u64", "UInt64", 26, 'start="0"'),
+                ("flag", "Boolean", 28, 'start="false"'), ("text", "String", 30, ""), ("blob", "Binary", 32, "")]
+"""(name stem, FMI 3.0 type, value reference of the input, start attribute): <stem>_in and
+<stem>_out (value reference + 1) of Typed3."""
+
+
+def typed3_xml(token=TYPED3_TOKEN, extra="", experiment=None, variable=True, state=True, once=False) -> str:
+    """Typed3's modelDescription; `extra`: more ModelVariables elements (an array, a clock);
+    variable, state, once: canHandleVariableCommunicationStepSize, canGetAndSetFMUState,
+    canBeInstantiatedOnlyOncePerProcess."""
+    variables = []
+    for stem, kind, vr, start in TYPED3_PAIRS:
+        child = '<Start value=""/>' if kind in ("String", "Binary") else ""
+        variables.append(f'<{kind} name="{stem}_in" valueReference="{vr}" causality="input" {start}>{child}</{kind}>')
+        variables.append(f'<{kind} name="{stem}_out" valueReference="{vr + 1}" causality="output"/>')
+    outputs = "\n    ".join(f'<Output valueReference="{vr + 1}" dependencies="{vr}"/>' for _, _, vr, _ in TYPED3_PAIRS)
+    initial = "\n    ".join(f'<InitialUnknown valueReference="{vr + 1}" dependencies="{vr}"/>'
+                            for _, _, vr, _ in TYPED3_PAIRS)
+    attributes = " ".join(f'{k}="{v}"' for k, v in (experiment or {}).items())
+    declared = "\n    ".join(variables)
+    default = f"<DefaultExperiment {attributes}/>" if experiment else ""
+    return f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="3.0" modelName="Typed3" instantiationToken="{token}"
+  generationTool="aotv-cosim tests">
+  <CoSimulation modelIdentifier="Typed3" canHandleVariableCommunicationStepSize="{str(variable).lower()}"
+    canGetAndSetFMUState="{str(state).lower()}" canBeInstantiatedOnlyOncePerProcess="{str(once).lower()}"/>
+  <UnitDefinitions>
+    <Unit name="m"><BaseUnit m="1"/></Unit>
+    <Unit name="m/s"><BaseUnit m="1" s="-1"/></Unit>
+    <Unit name="s"><BaseUnit s="1"/></Unit>
+  </UnitDefinitions>
+  <TypeDefinitions>
+    <Float64Type name="Length" unit="m"/>
+    <EnumerationType name="Mode">
+      <Item name="Hold" value="1"/>
+      <Item name="Ramp" value="2"/>
+    </EnumerationType>
+  </TypeDefinitions>
+  {default}
+  <ModelVariables>
+    <Float64 name="time" valueReference="0" causality="independent" variability="continuous"/>
+    <Float64 name="rate" valueReference="1" causality="parameter" variability="fixed" unit="m/s" start="1"/>
+    <Float64 name="x" valueReference="2" causality="output" declaredType="Length" initial="exact" start="0"/>
+    <Float64 name="u" valueReference="3" causality="input" unit="m" start="0"/>
+    <Float64 name="y" valueReference="4" causality="output" unit="m"/>
+    <Float64 name="terminate_at" valueReference="5" causality="parameter" variability="fixed" unit="s" start="1e9"/>
+    <Float64 name="discard_at" valueReference="6" causality="parameter" variability="fixed" unit="s" start="1e9"/>
+    {declared}
+    <Enumeration name="mode_in" declaredType="Mode" valueReference="34" causality="input" start="1"/>
+    <Enumeration name="mode_out" declaredType="Mode" valueReference="35" causality="output"/>
+    <Int32 name="steps" valueReference="36" causality="output" variability="discrete" initial="exact" start="0"/>
+    {extra}
+  </ModelVariables>
+  <ModelStructure>
+    <Output valueReference="2" dependencies=""/>
+    <Output valueReference="4" dependencies="3"/>
+    {outputs}
+    <Output valueReference="35" dependencies="34"/>
+    <Output valueReference="36" dependencies=""/>
+    <InitialUnknown valueReference="4" dependencies="3"/>
+    {initial}
+    <InitialUnknown valueReference="35" dependencies="34"/>
+  </ModelStructure>
+</fmiModelDescription>
+"""
+
+
+ARRAY3 = '<Float64 name="vec" valueReference="40" causality="output"><Dimension start="3"/></Float64>'
+"""An FMI 3.0 array output (refused by the master)."""
+CLOCK3 = ('<Clock name="tick" valueReference="41" causality="input" intervalVariability="constant" '
+          'intervalDecimal="1"/>')
+"""An FMI 3.0 input clock (refused by the master)."""
+
+
+def compile_typed3(folder: Path) -> Path:
+    """tests/helper_fmus/fmi3_typed.c compiled into a shared library (with FMPy's FMI 3.0 headers)."""
+    headers = Path(fmpy.__file__).parent / "c-code"
+    library = folder / f"Typed3{fmpy.sharedLibraryExtension}"
+    subprocess.run(["gcc", "-shared", "-fPIC", "-O1", "-I", str(headers), "-o", str(library),
+                    str(HERE / "fmi3_typed.c"), "-lm"], check=True)
+    return library
+
+
+def typed3_fmu(path: Path, library: Path, **xml) -> Path:
+    """An FMU of the Typed3 binary with the modelDescription `typed3_xml(**xml)`."""
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("modelDescription.xml", typed3_xml(**xml))
+        archive.write(library, f"binaries/{fmpy.platform_tuple}/{library.name}")
+    return path

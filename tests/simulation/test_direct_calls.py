@@ -2,13 +2,16 @@
 the same timeseries.csv byte for byte, the same failures, the watchdog still ends a hung step,
 and a slave class run as an FMU with no FMU file."""
 
+import ctypes
 import json
 from types import SimpleNamespace
 import math
 
 import pytest
 
+from aotv_cosim.model.variable_types import Strings
 from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
+from aotv_cosim.simulation.instance import Slots
 from aotv_cosim.simulation.master import Master
 from aotv_cosim.output.runner import write_run
 from aotv_cosim.simulation.loading import load_scenario
@@ -115,7 +118,8 @@ def test_every_shipped_scenario_is_the_same_on_both_paths(name, tmp_path):
 
 def test_a_slave_class_runs_as_an_in_process_fmu_without_a_file():
     """`DirectInstance.from_class`: a pythonfmu slave class stepped with no FMU file (a fake FMU
-    for master unit tests); its log reaches `messages`, a false do_step asks to terminate."""
+    for master unit tests) through the instance contract; its log reaches `messages`, a false
+    do_step is a typed terminate request."""
     from pythonfmu import Fmi2Causality, Fmi2Slave, Real
     from pythonfmu.enums import Fmi2Status
 
@@ -135,14 +139,17 @@ def test_a_slave_class_runs_as_an_in_process_fmu_without_a_file():
     inst.set_values({"rate": 4.0})
     inst.enter_initialization()
     inst.exit_initialization()
-    vrs = [inst.info.variables["x"].vr]
-    inst.step(0.0, 0.1)
-    assert inst.get_reals(vrs, 1, 0.1) == [pytest.approx(0.4)]
+    buffer = (ctypes.c_double * 1)()
+    read_x = inst.getter("Real", Slots((inst.info.variables["x"].vr,), (0,)), buffer, Strings())
+    assert inst.step(0.0, 0.1).ok
+    read_x(0.1)
+    assert buffer[0] == pytest.approx(0.4)
     assert inst.messages[-1] == ("ok", "stepped to 0.1")
-    inst.step(0.1, 0.1)
-    with pytest.raises(Exception) as ended:  # x reaches 1.2: do_step returns False
-        inst.step(0.2, 0.1)
-    assert type(ended.value).__name__ == "TerminateRequest" and ended.value.last_successful_time == 0.2
+    assert inst.step(0.1, 0.1).ok
+    ended = inst.step(0.2, 0.1)  # x reaches 1.2: do_step returns False
+    assert (ended.outcome, ended.status, ended.last_successful_time) == ("terminate", 2, 0.2)
+    request = inst.refusal(ended)
+    assert type(request).__name__ == "TerminateRequest" and request.last_successful_time == 0.2
     assert math.isclose(inst.get_value("x"), 1.2)
     inst.close()
 
@@ -158,8 +165,7 @@ def test_the_watchdog_ends_a_hung_direct_step(tmp_path):
 
     def build_then_hang():
         real_build()
-        inst = master.instances["guidance"]
-        inst.step_method = lambda t, h: time.sleep(30)
+        master.instances["guidance"].slave.do_step = lambda t, h: time.sleep(30)
     master._build_plans = build_then_hang
     t0 = time.monotonic()
     outcome = master.run(SimpleNamespace(record=lambda t, r: None))
@@ -208,3 +214,52 @@ def test_the_command_line_and_the_api_choose_the_call_path(calls, tmp_path):
     ran = api.run(SCENARIOS / "aotv_time_linear_nominal.json", stop=1.0, fmi_calls=calls)
     assert ran.summary["fmi_calls"] == expected
     assert without_wall_clock((tmp_path / "cli" / "timeseries.csv").read_bytes()).startswith(b"time,")
+
+
+def _with_member(source, target, name, change):
+    """A copy of the FMU archive `source` at `target` with member `name` made `change(old bytes or
+    None)` (None: left out)."""
+    import zipfile
+
+    with zipfile.ZipFile(source) as old, zipfile.ZipFile(target, "w") as new:
+        members = {n: old.read(n) for n in old.namelist()}
+        members[name] = change(members.get(name))
+        for member, data in members.items():
+            if data is not None:
+                new.writestr(member, data)
+    return target
+
+
+@pytest.mark.parametrize("edit", ["guid in modelDescription", "guid file", "guid file agrees",
+                                  "no guid file, guid in modelDescription", "no guid file"])
+def test_the_direct_path_refuses_a_guid_the_fmu_was_not_built_with(tmp_path, edit):
+    """As the C wrapper refuses to instantiate with another GUID, so does the direct path: the
+    build's GUID is read from resources/aotv_cosim_guid.txt when the FMU has it, else (an FMU built
+    before that file) derived again by the build's rule from its source hash and modelDescription."""
+    import fmpy
+
+    from aotv_cosim.fmu.build import TOKEN_FILE, built_fmu
+    from tests.helpers import write_json
+
+    source = built_fmu("Atmosphere")
+    guid = fmpy.read_model_description(str(source)).guid
+    other = "{00000000-0000-5000-8000-000000000000}"
+    if edit.startswith("no guid file"):
+        source = _with_member(source, tmp_path / "without.fmu", TOKEN_FILE, lambda _: None)
+    if edit.endswith("guid in modelDescription"):
+        _with_member(source, tmp_path / "Atm.fmu", "modelDescription.xml",
+                     lambda xml: xml.replace(guid.encode(), other.encode()))
+    elif edit == "no guid file":
+        _with_member(source, tmp_path / "Atm.fmu", TOKEN_FILE, lambda _: None)
+    else:
+        _with_member(source, tmp_path / "Atm.fmu", TOKEN_FILE,
+                     lambda _: (guid if edit == "guid file agrees" else other).encode())
+    write_json(tmp_path / "w.json", {"components": {"a": {"fmu": "Atm.fmu", "parameters": {"h": 80000.0}}},
+                                     "connections": []})
+    path = write_json(tmp_path / "s.json", {"system": "w.json", "stop": 1.0, "step": 0.5})
+    summary = write_run(load_scenario(path), tmp_path / "out", make_plots=False, fmi_calls="direct").summary.as_json()
+    if edit in ("guid file agrees", "no guid file"):
+        assert summary["status"] == "completed", summary["error"]
+        assert summary["fmus"]["a"]["fmi_calls"] == "direct"
+    else:
+        assert summary["status"] == "failed" and "instantiate" in summary["error"] and "GUID" in summary["error"]
