@@ -35,6 +35,7 @@ Units: SI (m, m/s, rad, s, m/s^2, kg/m^3).
 import bisect
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 from aotv_cosim.guidance import npc, npc_bank_kernel
 from aotv_cosim.physics import orbit, point_mass, us76
@@ -68,9 +69,11 @@ class ScaleProfile:
         j = bisect.bisect_right(a, h) - 1
         return k[j] + (k[j + 1] - k[j]) * (h - a[j]) / (a[j + 1] - a[j])
 
-    def nodes(self):
-        """(altitudes, scales)."""
-        return self.altitudes, self.scales
+    @cached_property
+    def kernel_nodes(self):
+        """The nodes as the compiled predictor takes them (`npc_bank_kernel.scale_arrays`), built
+        once per profile: a cycle flies one profile several times."""
+        return npc_bank_kernel.scale_arrays(self.altitudes, self.scales)
 
 
 @dataclass(frozen=True)
@@ -170,11 +173,11 @@ def fly(t_k: float, state, x: float, scale, model: BankModel, s: BankSettings):
     horizon ends. Where a C compiler is found, `npc_bank_kernel` runs this loop compiled, the
     same operations in the same order (the same numbers to the bit,
     `tests/studies/test_npc_bank_kernel.py`)."""
-    nodes = scale.nodes() if isinstance(scale, ScaleProfile) else ((0.0,), (scale,))
+    nodes = scale.kernel_nodes if isinstance(scale, ScaleProfile) else npc_bank_kernel.scale_arrays((0.0,), (scale,))
     compiled = npc_bank_kernel.flight(
         (t_k, *state, x, model.cl_s_m, model.cd_s_m, model.atmosphere, model.rho_ref, model.h_ref,
          model.scale_height, model.r_earth, model.gravity_model, model.g0, model.mu, s.h_exit, s.step,
-         s.horizon, s.h_floor, s.t_switch, math.cos(s.sigma_2)), *nodes)
+         s.horizon, s.h_floor, s.t_switch, math.cos(s.sigma_2)), nodes)
     if compiled is not None:
         return compiled
     h0, v0, gamma0 = state
@@ -258,3 +261,12 @@ def guidance_cycle(memory: npc.NpcMemory, t: float, state, model: BankModel, s: 
         scale = npc.filter_density_scale(scale, npc.measured_density_ratio(memory.sample, sample, model), gain)
     corr = correct(t, state, memory.u_c, scale, model, s)
     return npc.NpcMemory(sample, scale, corr.u_c, t), corr
+
+
+def cycle_with_scale(memory: npc.NpcMemory, t: float, state, scale, model: BankModel, s: BankSettings):
+    """One cycle at elapsed t (s) with a density scale estimated elsewhere (a number or a
+    `ScaleProfile`): `correct` warm-started from the last x. Returns (memory after the cycle,
+    with the scale at the present altitude, Correction)."""
+    corr = correct(t, state, memory.u_c, scale, model, s)
+    here = scale.at(state[0]) if isinstance(scale, ScaleProfile) else scale
+    return npc.NpcMemory((t, *state), here, corr.u_c, t), corr

@@ -224,15 +224,20 @@ def us76_tables():
 _PARAMETERS = ctypes.c_double * 21
 
 
-def flight(parameters, scale_altitudes, scales):
+def scale_arrays(altitudes, scales):
+    """The density scale nodes (altitudes m, strictly ascending; scales) as the ctypes arrays
+    `flight` takes: (altitudes, scales, count)."""
+    n = len(scales)
+    return (ctypes.c_double * n)(*altitudes), (ctypes.c_double * n)(*scales), n
+
+
+def flight(parameters, scale_nodes):
     """(exited, time s, h m, v m/s, gamma rad) of the compiled prediction for the 21 `parameters`
-    (the order of `SOURCE`'s aotv_npc_bank_fly) and the density scale nodes (altitudes m, strictly
-    ascending, and scales; one node: a constant scale), or None when the kernel is not available."""
+    (the order of `SOURCE`'s aotv_npc_bank_fly) and the density scale nodes (`scale_arrays`; one
+    node: a constant scale), or None when the kernel is not available."""
     function = _function()
     if function is None:
         return None
-    n = len(scales)
     out = (ctypes.c_double * 4)()
-    exited = function(_PARAMETERS(*parameters), (ctypes.c_double * n)(*scale_altitudes),
-                      (ctypes.c_double * n)(*scales), n, us76_tables(), out)
+    exited = function(_PARAMETERS(*parameters), *scale_nodes, us76_tables(), out)
     return bool(exited), out[0], out[1], out[2], out[3]
