@@ -44,7 +44,7 @@ class NpcBankDensityGuidance(CycledGuidance):
         p("sigma_min", d.sigma_min, "rad", "Smallest bank magnitude", min=0.0, max=math.pi)
         p("sigma_max", d.sigma_max, "rad", "Largest bank magnitude", min=0.0, max=math.pi)
         p("sigma_guess", math.pi / 2, "rad", "First-cycle guess of the bank magnitude", min=0.0, max=math.pi)
-        p("density_gain", 0.3, "1", "Gain of the fading-memory filters (0: keep the first sample)")
+        p("density_gain", 0.3, "1", "Gain of the fading-memory filters (0: keep the first sample)", min=0.0, max=1.0)
         self.integer_parameter("density_estimator", de.ESTIMATOR_TABLE,
                                "Density estimate: 1 fading-memory scale of the sensed drag every step; 2 altitude table "
                                "of the sensed drag, Gauss-Markov relaxation below the lowest altitude sampled",

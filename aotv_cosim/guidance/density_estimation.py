@@ -106,10 +106,10 @@ class DensityEstimate:
         if not self.altitudes:
             return ScaleProfile((0.0,), (prior,))
         h_min, log_min, mu = self.altitudes[-1], math.log(self.ratios[-1]), self.mean_log_ratio()
-        below = [(h_min - depth * correlation_length, math.exp(mu + (log_min - mu) * math.exp(-depth)))
-                 for depth in reversed(RELAXATION_NODES)]
-        nodes = below + list(zip(reversed(self.altitudes), reversed(self.ratios)))
-        return ScaleProfile(tuple(h for h, _ in nodes), tuple(k for _, k in nodes))
+        depths = RELAXATION_NODES[::-1]
+        below_h = tuple(h_min - depth * correlation_length for depth in depths)
+        below_k = tuple(math.exp(mu + (log_min - mu) * math.exp(-depth)) for depth in depths)
+        return ScaleProfile(below_h + self.altitudes[::-1], below_k + self.ratios[::-1])
 
     def filtered_profile(self, prior: float = 1.0) -> ScaleProfile:
         """The fading-memory K as a constant scale (`prior` before any sample)."""

@@ -34,6 +34,7 @@ Units: SI (m, m/s, rad, s, m/s^2, kg/m^3).
 
 import bisect
 import math
+import operator
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -56,7 +57,7 @@ class ScaleProfile:
     def __post_init__(self):
         if not self.scales or len(self.altitudes) != len(self.scales):
             raise ValueError("a ScaleProfile needs as many altitudes as scales, at least one")
-        if any(b <= a for a, b in zip(self.altitudes, self.altitudes[1:])):
+        if not all(map(operator.lt, self.altitudes, self.altitudes[1:])):
             raise ValueError("ScaleProfile altitudes must be strictly ascending")
 
     def at(self, h: float) -> float:

@@ -21,6 +21,7 @@ compiler `flight` returns None and `npc_bank.fly` runs its Python loop.
 """
 
 import ctypes
+from array import array
 from functools import lru_cache
 from pathlib import Path
 
@@ -226,9 +227,11 @@ _PARAMETERS = ctypes.c_double * 21
 
 def scale_arrays(altitudes, scales):
     """The density scale nodes (altitudes m, strictly ascending; scales) as the ctypes arrays
-    `flight` takes: (altitudes, scales, count)."""
+    `flight` takes: (altitudes, scales, count); converted by `array` (a C loop), the ctypes arrays
+    sharing and keeping its buffer."""
     n = len(scales)
-    return (ctypes.c_double * n)(*altitudes), (ctypes.c_double * n)(*scales), n
+    vector = ctypes.c_double * n
+    return vector.from_buffer(array("d", altitudes)), vector.from_buffer(array("d", scales)), n
 
 
 def flight(parameters, scale_nodes):
