@@ -26,7 +26,11 @@ kept in [cos sigma_max, cos sigma_min]. Convergence: an exiting prediction with
 
 Density scale: measured drag over model drag between two cycles, low-pass filtered
 (`npc.measured_density_ratio`, `npc.filter_density_scale`): the drag is along the velocity, so
-it is read off v_dot whatever the bank.
+it is read off v_dot whatever the bank. The predictor also flies a scale that depends on
+altitude (`ScaleProfile`: the sensed-drag table of `guidance.density_estimation`).
+
+Speed: `fly` runs compiled from C where a compiler is found (`npc_bank_kernel`, the same
+operations in the same order, so the same predictions).
 
 Lateral logic: `guidance.lateral` (bank reversals when the plane error leaves a deadband).
 Units: SI (m, m/s, rad, s, m/s^2, kg/m^3).
@@ -207,7 +211,7 @@ def predict(t_k: float, state, x: float, scale, model: BankModel, s: BankSetting
     return _prediction(*fly(t_k, state, x, scale, model, s), model, s)
 
 
-def correct(t_k: float, state, x_guess: float, scale: float, model: BankModel, s: BankSettings) -> npc.Correction:
+def correct(t_k: float, state, x_guess: float, scale, model: BankModel, s: BankSettings) -> npc.Correction:
     """x = cos|sigma| with |apogee miss| <= tolerance (module docstring), from x_guess; at the
     iteration limit the exiting iterate with the smallest apogee miss, converged False. The
     Correction's u_c field holds x."""
