@@ -26,21 +26,59 @@ kept in [cos sigma_max, cos sigma_min]. Convergence: an exiting prediction with
 
 Density scale: measured drag over model drag between two cycles, low-pass filtered
 (`npc.measured_density_ratio`, `npc.filter_density_scale`): the drag is along the velocity, so
-it is read off v_dot whatever the bank.
+it is read off v_dot whatever the bank. The predictor also flies a scale that depends on
+altitude (`ScaleProfile`: the sensed-drag table of `guidance.density_estimation`).
+
+Speed: `fly` runs compiled from C where a compiler is found (`npc_bank_kernel`, the same
+operations in the same order, so the same predictions).
 
 Lateral logic: `guidance.lateral` (bank reversals when the plane error leaves a deadband).
 Units: SI (m, m/s, rad, s, m/s^2, kg/m^3).
 """
 
+import bisect
 import math
+import operator
 from dataclasses import dataclass
+from functools import cached_property
 
-from aotv_cosim.guidance import npc
+from aotv_cosim.guidance import npc, npc_bank_kernel
 from aotv_cosim.physics import orbit, point_mass, us76
 from aotv_cosim.physics.atmosphere import exponential_density
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
 
 ATMOSPHERE_EXPONENTIAL, ATMOSPHERE_US76 = 0, 1
+
+
+@dataclass(frozen=True)
+class ScaleProfile:
+    """A density scale that depends on altitude: k(h) piecewise linear through the nodes
+    (altitudes m, strictly ascending; scales, dimensionless), the end values held outside them."""
+
+    altitudes: tuple
+    scales: tuple
+
+    def __post_init__(self):
+        if not self.scales or len(self.altitudes) != len(self.scales):
+            raise ValueError("a ScaleProfile needs as many altitudes as scales, at least one")
+        if not all(map(operator.lt, self.altitudes, self.altitudes[1:])):
+            raise ValueError("ScaleProfile altitudes must be strictly ascending")
+
+    def at(self, h: float) -> float:
+        """k(h), h in m."""
+        a, k = self.altitudes, self.scales
+        if len(a) == 1 or h <= a[0]:
+            return k[0]
+        if h >= a[-1]:
+            return k[-1]
+        j = bisect.bisect_right(a, h) - 1
+        return k[j] + (k[j + 1] - k[j]) * (h - a[j]) / (a[j + 1] - a[j])
+
+    @cached_property
+    def kernel_nodes(self):
+        """The nodes as the compiled predictor takes them (`npc_bank_kernel.scale_arrays`), built
+        once per profile: a cycle flies one profile several times."""
+        return npc_bank_kernel.scale_arrays(self.altitudes, self.scales)
 
 
 @dataclass(frozen=True)
@@ -61,11 +99,13 @@ class BankModel:
     gravity_model: int = point_mass.GRAVITY_INVERSE_SQUARE
     g0: float = 9.80665
 
-    def density(self, h: float, scale: float) -> float:
-        """Model density scale * rho(h), kg/m^3."""
+    def density(self, h: float, scale) -> float:
+        """Model density k * rho(h), kg/m^3, with k the density scale: a number, or a
+        `ScaleProfile` evaluated at h."""
+        k = scale.at(h) if isinstance(scale, ScaleProfile) else scale
         if self.atmosphere == ATMOSPHERE_US76:
-            return scale * us76.density(h)
-        return scale * exponential_density(h, self.rho_ref, self.h_ref, self.scale_height)
+            return k * us76.density(h)
+        return k * exponential_density(h, self.rho_ref, self.h_ref, self.scale_height)
 
     def drag(self, h: float, v: float, scale: float) -> float:
         """Model drag specific force q C_D S/m, m/s^2."""
@@ -130,12 +170,22 @@ def _prediction(exited, t, h, v, gamma, model, s):
     return npc.Prediction(exited, t, h, v, gamma, apogee, apogee - s.apogee_target)
 
 
-def predict(t_k: float, state, x: float, scale: float, model: BankModel, s: BankSettings) -> npc.Prediction:
-    """Fly the model from state (h m, v m/s, gamma rad) at elapsed t_k (s) with vertical lift
-    fraction x and density scale `scale` to the exit crossing, h_floor or the horizon."""
+def fly(t_k: float, state, x: float, scale, model: BankModel, s: BankSettings):
+    """(exited, time s, h m, v m/s, gamma rad) of the model flown from state (h m, v m/s,
+    gamma rad) at elapsed t_k (s) with vertical lift fraction x and density scale `scale` (a
+    number or a `ScaleProfile`): RK4 steps of s.step (`_rk4`) until the altitude climbs through
+    h_exit (the crossing interpolated linearly in the step: exited), falls below h_floor, or the
+    horizon ends. Where a C compiler is found, `npc_bank_kernel` runs this loop compiled, the
+    same operations in the same order (the same numbers to the bit,
+    `tests/studies/test_npc_bank_kernel.py`)."""
+    nodes = scale.kernel_nodes if isinstance(scale, ScaleProfile) else npc_bank_kernel.scale_arrays((0.0,), (scale,))
+    compiled = npc_bank_kernel.flight(
+        (t_k, *state, x, model.cl_s_m, model.cd_s_m, model.atmosphere, model.rho_ref, model.h_ref,
+         model.scale_height, model.r_earth, model.gravity_model, model.g0, model.mu, s.h_exit, s.step,
+         s.horizon, s.h_floor, s.t_switch, math.cos(s.sigma_2)), nodes)
+    if compiled is not None:
+        return compiled
     h0, v0, gamma0 = state
-    if h0 >= s.h_exit and gamma0 > 0.0:
-        return _prediction(True, t_k, h0, v0, gamma0, model, s)
     y = [model.r_earth + h0, v0, gamma0]
     t, t_end = t_k, t_k + s.horizon
     exit_r, floor_r = model.r_earth + s.h_exit, model.r_earth + s.h_floor
@@ -144,15 +194,24 @@ def predict(t_k: float, state, x: float, scale: float, model: BankModel, s: Bank
         y_new = _rk4(t, y, dt, x, scale, model, s)
         if y_new[0] >= exit_r > y[0] and y_new[2] > 0.0:
             f = (exit_r - y[0]) / (y_new[0] - y[0])
-            return _prediction(True, t + f * dt, s.h_exit, y[1] + f * (y_new[1] - y[1]),
-                               y[2] + f * (y_new[2] - y[2]), model, s)
+            return True, t + f * dt, s.h_exit, y[1] + f * (y_new[1] - y[1]), y[2] + f * (y_new[2] - y[2])
         t, y = t + dt, y_new
         if y[0] < floor_r:
             break
-    return _prediction(False, t, y[0] - model.r_earth, y[1], y[2], model, s)
+    return False, t, y[0] - model.r_earth, y[1], y[2]
 
 
-def correct(t_k: float, state, x_guess: float, scale: float, model: BankModel, s: BankSettings) -> npc.Correction:
+def predict(t_k: float, state, x: float, scale, model: BankModel, s: BankSettings) -> npc.Prediction:
+    """Fly the model from state (h m, v m/s, gamma rad) at elapsed t_k (s) with vertical lift
+    fraction x and density scale `scale` (a number or a `ScaleProfile`) to the exit crossing,
+    h_floor or the horizon (`fly`), and the apogee of the orbit where it ends."""
+    h0, v0, gamma0 = state
+    if h0 >= s.h_exit and gamma0 > 0.0:
+        return _prediction(True, t_k, h0, v0, gamma0, model, s)
+    return _prediction(*fly(t_k, state, x, scale, model, s), model, s)
+
+
+def correct(t_k: float, state, x_guess: float, scale, model: BankModel, s: BankSettings) -> npc.Correction:
     """x = cos|sigma| with |apogee miss| <= tolerance (module docstring), from x_guess; at the
     iteration limit the exiting iterate with the smallest apogee miss, converged False. The
     Correction's u_c field holds x."""
@@ -207,3 +266,12 @@ def guidance_cycle(memory: npc.NpcMemory, t: float, state, model: BankModel, s: 
         scale = npc.filter_density_scale(scale, npc.measured_density_ratio(memory.sample, sample, model), gain)
     corr = correct(t, state, memory.u_c, scale, model, s)
     return npc.NpcMemory(sample, scale, corr.u_c, t), corr
+
+
+def cycle_with_scale(memory: npc.NpcMemory, t: float, state, scale, model: BankModel, s: BankSettings):
+    """One cycle at elapsed t (s) with a density scale estimated elsewhere (a number or a
+    `ScaleProfile`): `correct` warm-started from the last x. Returns (memory after the cycle,
+    with the scale at the present altitude, Correction)."""
+    corr = correct(t, state, memory.u_c, scale, model, s)
+    here = scale.at(state[0]) if isinstance(scale, ScaleProfile) else scale
+    return npc.NpcMemory((t, *state), here, corr.u_c, t), corr

@@ -4,24 +4,19 @@
 law; in Python that is nine tenths of the run. `SOURCE` is the same loop in C: every expression
 is written with the association Python evaluates (left to right, `a + 2.0 * b + 2.0 * c + d`
 as ((a + 2b) + 2c) + d), the exponential, sine and cosine are the C library's, which Python's
-`math` calls too, and the compiler is told not to contract a * b + c into a fused multiply-add
-nor to replace the library calls by builtins (`FLAGS`), so both give the same numbers to the bit
-(`tests/studies/test_npc_kernel.py` compares them). No fast-math option is used.
+`math` calls too, and it is compiled with `c_kernels.FLAGS` (no fused multiply-add, no builtin
+replacement of the library calls, no fast math), so both give the same numbers to the bit
+(`tests/studies/test_npc_kernel.py` compares them).
 
-The shared library is looked for beside this module (an FMU that bundles it, see `LIBRARY`),
-then in the `kernels` folder of the FMU cache (`kernel_dir`), where it is compiled on first use
-when a C compiler is found; this works from any copy of the package, also the runtime an FMU
-bundles. Without a compiler, `flight` returns None and `npc.fly` runs its Python loop.
+Compiled on first use into the FMU cache's `kernels` folder and loaded by `c_kernels.load`;
+without a compiler, `flight` returns None and `npc.fly` runs its Python loop.
 """
 
 import ctypes
-import hashlib
-import os
-import shutil
-import subprocess
-import tempfile
 from functools import lru_cache
 from pathlib import Path
+
+from aotv_cosim.guidance import c_kernels
 
 SOURCE = r"""
 #include <math.h>
@@ -100,70 +95,20 @@ int aotv_npc_fly(const double *p, double *out)
 }
 """
 
-FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off", "-fno-builtin", "-fno-fast-math")
-"""Compiler options: optimised, IEEE arithmetic as written (no fused multiply-add, no builtin
-replacement of exp, sin, cos)."""
-
-LIBRARY = f"libaotv_npc_{hashlib.sha256((SOURCE + ' '.join(FLAGS)).encode()).hexdigest()[:16]}.so"
+LIBRARY = c_kernels.library_name("aotv_npc", SOURCE)
 """File name of the compiled kernel (changes with the source and the options). An FMU build may
-bundle it as resources/aotv_cosim/guidance/LIBRARY (`compile_library`)."""
-
-
-def compiler():
-    """The C compiler command (gcc, else cc), or None."""
-    return shutil.which("gcc") or shutil.which("cc")
-
-
-def compile_library(directory) -> Path:
-    """Compile `SOURCE` into `directory`/LIBRARY (written atomically: concurrent workers may
-    compile at once) and return its path. Raises OSError or CalledProcessError on failure."""
-    directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=directory) as tmp:
-        source, library = Path(tmp) / "npc_kernel.c", Path(tmp) / LIBRARY
-        source.write_text(SOURCE)
-        subprocess.run([compiler() or "cc", *FLAGS, "-o", LIBRARY, source.name, "-lm"], check=True,
-                       capture_output=True, cwd=tmp)  # relative names: no temporary path in the binary
-        os.replace(library, directory / LIBRARY)
-    return directory / LIBRARY
-
-
-def kernel_dir() -> Path:
-    """Folder of compiled kernels: `kernels` in the FMU cache folder, chosen by the rule of
-    `fmu.build.cache_dir` ($AOTV_COSIM_CACHE, else $XDG_CACHE_HOME/aotv-cosim, else
-    ~/.cache/aotv-cosim), written out here because an FMU's bundled runtime has no fmu.build."""
-    root = os.environ.get("AOTV_COSIM_CACHE")
-    if not root:
-        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "aotv-cosim"
-    return Path(root) / "kernels"
-
-
-def _cached_library():
-    """The kernel in `kernel_dir`, compiled there if missing; None without a compiler or when
-    the compilation fails."""
-    path = kernel_dir() / LIBRARY
-    if path.is_file():
-        return path
-    if compiler() is None:
-        return None
-    try:
-        return compile_library(path.parent)
-    except (OSError, subprocess.CalledProcessError):
-        return None
+bundle it as resources/aotv_cosim/guidance/LIBRARY."""
 
 
 @lru_cache(maxsize=1)
 def _function():
-    for path in (Path(__file__).with_name(LIBRARY), _cached_library()):
-        if path is not None and path.is_file():
-            try:
-                function = ctypes.CDLL(str(path)).aotv_npc_fly
-            except OSError:
-                continue
-            function.argtypes = (ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double))
-            function.restype = ctypes.c_int
-            return function
-    return None
+    library = c_kernels.load(SOURCE, LIBRARY, Path(__file__))
+    if library is None:
+        return None
+    function = library.aotv_npc_fly
+    function.argtypes = (ctypes.POINTER(ctypes.c_double), ctypes.POINTER(ctypes.c_double))
+    function.restype = ctypes.c_int
+    return function
 
 
 def available() -> bool:

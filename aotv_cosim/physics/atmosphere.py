@@ -6,6 +6,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from aotv_cosim.physics import us76
+
 
 def exponential_density(h: float, rho_ref: float, h_ref: float, scale_height: float) -> float:
     """Density rho(h) = rho_ref * exp(-(h - h_ref) / H), kg/m^3.
@@ -53,7 +55,5 @@ def model_density(model: int, h: float, rho_ref: float, h_ref: float, scale_heig
     parameters rho_ref kg/m^3, h_ref m, scale_height m) or US76 (MODEL_US76, `physics.us76`,
     parameters unused)."""
     if model == MODEL_US76:
-        from aotv_cosim.physics import us76
-
         return us76.density(h)
     return exponential_density(h, rho_ref, h_ref, scale_height)

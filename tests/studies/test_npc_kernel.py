@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from aotv_cosim.guidance import npc, npc_kernel
+from aotv_cosim.guidance import c_kernels, npc, npc_kernel
 from aotv_cosim.physics import point_mass
 
 
@@ -96,13 +96,13 @@ def test_the_compiled_flight_equals_rk4_on_the_vehicle_equations(t_k, h, v, gamm
 
 
 def test_the_kernels_live_in_the_fmu_cache_folder(monkeypatch, tmp_path):
-    """npc_kernel spells out fmu.build.cache_dir's rule (a bundled runtime has no fmu.build)."""
+    """c_kernels spells out fmu.build.cache_dir's rule (a bundled runtime has no fmu.build)."""
     from aotv_cosim.fmu.build import cache_dir
 
     monkeypatch.setenv("AOTV_COSIM_CACHE", str(tmp_path / "cache"))
-    assert npc_kernel.kernel_dir() == cache_dir() / "kernels"
+    assert c_kernels.kernel_dir() == cache_dir() / "kernels"
     monkeypatch.delenv("AOTV_COSIM_CACHE")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
-    assert npc_kernel.kernel_dir() == cache_dir() / "kernels"
+    assert c_kernels.kernel_dir() == cache_dir() / "kernels"
     monkeypatch.delenv("XDG_CACHE_HOME")
-    assert npc_kernel.kernel_dir() == cache_dir() / "kernels"
+    assert c_kernels.kernel_dir() == cache_dir() / "kernels"
