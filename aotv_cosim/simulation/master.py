@@ -52,6 +52,7 @@ from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
 from aotv_cosim.simulation.interrupts import Interrupted
 from aotv_cosim.simulation.fmi_instance import FmuInstance
 from aotv_cosim.simulation.rows import CHUNK, Recorder, Rows
+from aotv_cosim.model.bindings import bound_values
 from aotv_cosim.model.ranges import RangeWatch
 from aotv_cosim.model.scenario import crossing
 from aotv_cosim.model.variable_types import Strings
@@ -148,7 +149,7 @@ class Master:
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
                                   "guid": comp.fmu.guid, "fmi_calls": "direct" if direct else "c"}
         drawn = {}
-        for signal, value in self.overrides.items():
+        for signal, value in {**self.overrides, **bound_values(s, self.overrides)}.items():
             comp, var = signal.split(".", 1)
             drawn.setdefault(comp, {})[var] = value
         for name, comp in s.system.components.items():
