@@ -27,7 +27,8 @@ class OracleBankGuidance(EntryLatchedGuidance):
     is not modelled. The solve predicts the co-simulated pass as the master flies the
     aerocapture sets (Gauss-Seidel in the order vehicle, atmosphere, this FMU, actuator; step
     command_period; input_extrapolation as the scenario's inputs): a step of another size is
-    flown with a warning in the log (the pass is then not the predicted one). The sign of the bank follows `guidance.lateral` with `deadband` (pi: no reversal).
+    flown with a warning in the log (the pass is then not the predicted one). The sign of the bank
+    follows `guidance.lateral` with `deadband` (pi: no reversal).
     `saturation_time` integrates the time the command sits on a bound of |sigma| (0 or pi), for
     the sets' records. A plan that is not admissible (no pass meets the target) is flown all the
     same, flagged by `admissible` 0."""

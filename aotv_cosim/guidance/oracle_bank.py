@@ -37,9 +37,9 @@ bank is solved (`solve_exit_bank`). A pass is admissible when its apogee is with
 the target and it exits `horizon_margin` before the run's end; when the solved pass is not (its
 apogee jumps over the band, or it lasts too long), the switch steps back by `walk` points until
 one is, then bisection between the two. Without any, the constant bank (point 0).
-The plane is not controlled by default (deadband pi): with the bank laws' reversals the apogee
-jumps with each reversal that moves by a step and the solves fail on the AOTV class; the
-outcome's dv is in-plane for every law.
+The plane is held by bank reversals (`guidance.lateral`, deadband 1 deg by default, twice the bank
+laws' 0.5 deg: the apogee jumps with each reversal that moves by a step, and with 0.5 deg one
+AOTV solve in six found no admissible pass).
 Units: SI (m, m/s, rad, s, kg/m^3).
 """
 
@@ -100,8 +100,7 @@ class OracleSettings:
     """apogee_target, h_exit, h_floor in m; tolerance: |apogee - target| (m) that ends a solve;
     accept: |apogee - target| (m) of an admissible pass;
     command_period, horizon (the run's end after the start), horizon_margin in s; deadband: the
-    plane-error deadband of the bank reversals (rad, `guidance.lateral`; pi, the default: no
-    reversal; the bank laws' 0.5 deg makes the apogee jump with each reversal that moves a step);
+    plane-error deadband of the bank reversals (rad, `guidance.lateral`; pi: none);
     input_extrapolation: 1 when the scenario's delayed inputs are extrapolated
     ("inputs": "extrapolated"), 0 when held; max_substep: the vehicle's RK4 substep (s); sigma_2_max:
     the largest exit-arc bank (rad); walk, steps_back: switch points per step back from an
@@ -112,16 +111,16 @@ class OracleSettings:
     h_exit: float
     command_period: float = 1.0
     tolerance: float = 1000.0
-    accept: float = 5000.0
+    accept: float = 8000.0
     h_floor: float = 30e3
     horizon: float = 900.0
     horizon_margin: float = 30.0
-    deadband: float = math.pi
+    deadband: float = math.radians(1.0)
     input_extrapolation: int = 1
     max_substep: float = 0.5
     sigma_2_max: float = LIFT_DOWN
-    walk: int = 10
-    steps_back: int = 4
+    walk: int = 3
+    steps_back: int = 10
     max_iter: int = 20
 
 
@@ -364,7 +363,10 @@ def _latest_switch(search: _Search):
     from it ends below the target (or not at all): the latest such point by bisection, one
     prediction each. When its solved pass is not admissible (the apogee jumps over the target, or
     the pass ends too late), the switch steps earlier by `walk` points until one is, then
-    bisection between the two on admissibility, a solve each."""
+    bisection between the two on admissibility, a solve each; then the next two points after the
+    one found, while one of them is admissible with a lower dv (a pass whose apogee jumps over the
+    band at one point may not at the next). The admissible pass of lowest dv among those solved
+    is returned (a later switch may land farther from the target: 0.3-0.5 m/s per km)."""
     s, period = search.s, search.s.command_period
     trail = search.trail()
 
@@ -378,16 +380,18 @@ def _latest_switch(search: _Search):
     while hi - lo > 1:
         mid = (lo + hi) // 2
         lo, hi = (mid, hi) if low_enough(mid) else (lo, mid)
-    solved = {}  # switch point: the admissible exit bank found there, the next solves' warm start
+    solved, tried = {}, {}  # switch point: the admissible exit bank found there (warm starts); every solve
 
     def solve_at(k, fallback):
+        if k in tried:
+            return tried[k]
         near = sorted(solved, key=lambda j: abs(j - k))[:2]
         if len(near) == 2:
             (j0, j1) = near
             guess = solved[j0] + (solved[j1] - solved[j0]) * (k - j0) / (j1 - j0)
         else:
             guess = solved[near[0]] if near else fallback
-        trial = search.exit_bank(trail[k], k * period, guess)
+        trial = tried[k] = search.exit_bank(trail[k], k * period, guess)
         if math.isfinite(trial[0]):
             solved[k] = trial[2]
         return trial
@@ -404,7 +408,12 @@ def _latest_switch(search: _Search):
         k = (round(good[1] / period) + bad) // 2
         trial = solve_at(k, good[2])
         good, bad = (trial, bad) if math.isfinite(trial[0]) else (good, k)
-    return good
+    while True:  # admissibility is not monotone (a jump at one point): the next two points may do better
+        k = round(good[1] / period)
+        better = [t for t in (solve_at(j, good[2]) for j in (k + 1, k + 2) if j <= lo) if t[0] < good[0]]
+        if not better:  # the lowest dv of every admissible pass solved (a later one may land farther off)
+            return min((t for t in tried.values() if math.isfinite(t[0])), key=lambda t: t[0])
+        good = min(better, key=lambda t: t[0])
 
 
 def solve(state, model: TruthModel, s: OracleSettings) -> Plan:

@@ -73,8 +73,8 @@ def test_the_bang_bang_alone_on_the_afe_nominal_entry():
 @pytest.mark.parametrize("name", ["afe", "aotv"])
 def test_the_oracle_model_is_the_co_simulated_pass(tmp_path, name):
     """The oracle's plan flown by the co-simulation (the set's vehicle, Atmosphere with a random
-    profile, BankActuator FMUs, 1 s steps, extrapolated inputs) and flown by `oracle_bank.fly`
-    with the same bank history exit with the same state: the same operations in the same order
+    profile, BankActuator FMUs, 1 s steps, extrapolated inputs; bank reversals outside 1 deg) and
+    flown by `oracle_bank.fly` with the same plan exit with the same state: the same operations in the same order
     give the same numbers (measured equal to the bit); the tolerance, 1e-12 relative (about 4500
     ulps), leaves room for a master that reorders its extrapolation's additions."""
     import aotv_cosim
@@ -99,8 +99,9 @@ def test_the_oracle_model_is_the_co_simulated_pass(tmp_path, name):
     model = ob.TruthModel(wired["CL"] * s_m, doc["parameters"]["vehicle.CD"] * s_m, density_factor=1.1,
                           profile_sigma=0.1, profile_seed=4242.0, rate_limit=actuator["rate_limit"],
                           accel_limit=actuator["accel_limit"], r_earth=R_E, mu=MU)
+    settings = ob.OracleSettings(av.TARGET_APOGEE, av.H_INTERFACE, deadband=components["bank"]["parameters"]["deadband"])
     flown = ob.fly(ob.entry_state((wired["h0"], wired["v0"], wired["gamma0"], 0.0, 0.0), model), 0.0,
-                   first["bank.t_switch"], first["bank.sigma_2"], model, SETTINGS)
+                   first["bank.t_switch"], first["bank.sigma_2"], model, settings)
     assert flown.exited and run.summary["outcome"]["class"] == "captured"
     for mine, theirs in ((flown.v, event["vehicle.v"]), (flown.gamma, event["vehicle.gamma"]),
                          (flown.t, run.summary["event"]["time"])):
