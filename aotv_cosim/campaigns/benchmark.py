@@ -48,11 +48,14 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
            ("outcome.dv_total", "correction dv", "m/s", PERCENT),
            ("outcome.peak_heat_rate", "peak heat rate", "W/m2", (50.0, 99.865)),
            ("outcome.heat_load", "heat load", "J/m2", (50.0, 99.865)),
+           ("outcome.peak_heat_rate_total", "peak total heat rate", "W/m2", (50.0, 99.865)),
+           ("outcome.heat_load_total", "total heat load", "J/m2", (50.0, 99.865)),
            ("outcome.peak_load_factor", "peak load factor", "1", (50.0, 99.865)),
            ("outcome.int_abs_u", "int |u| dt", "m/s", (50.0, 99.865)),
            ("outcome.int_u2", "int u^2 dt", "m2/s3", (50.0,)))
 """(row column, label, unit, percentiles) of the scorecard; percentiles over the completed runs
-whose value is finite (an unbound exit orbit has no finite apogee error)."""
+whose value is finite (an unbound exit orbit has no finite apogee error). The heating is shown
+convective (Sutton-Graves: peak_heat_rate, heat_load) and total (plus Tauber-Sutton radiative)."""
 
 
 def shipped_sets() -> list:

@@ -1,7 +1,8 @@
 """Limits that matter in a benchmark: the peaks a vehicle must survive and its control margins.
 
 A scenario states its limits in `"montecarlo": {"outcome": {"limits": {...}}}`: peak load factor
-(1, in g0), peak stagnation heat rate (W/m^2) and peak dynamic pressure (Pa). The outcome classes
+(1, in g0), peak stagnation heat rate (W/m^2; the total, convective plus radiative, of the
+vehicle's recorded qdot_total) and peak dynamic pressure (Pa). The outcome classes
 do not change; the scorecard gains, for the runs that completed: the percentiles of the peak
 dynamic pressure (the vehicle's recorded qbar), of the bank saturation time (`outcome.saturation_time`,
 the time the bank command sat on full lift up or down) and of the number of bank reversals (a
@@ -17,7 +18,7 @@ from aotv_cosim.errors import InputError
 from aotv_cosim.status import Status
 
 LIMITED = (("load_factor", "outcome.peak_load_factor", "1"),
-           ("heat_rate", "outcome.peak_heat_rate", "W/m2"),
+           ("heat_rate", "outcome.peak_heat_rate_total", "W/m2"),
            ("dynamic_pressure", "max.{vehicle}.qbar", "Pa"))
 """(limit name, row column of the peak, unit)."""
 
@@ -33,6 +34,10 @@ def of_set(loaded) -> dict:
         elif limits != found:
             raise InputError(f"its limits differ from those of {first.name}", file=path,
                              entry="montecarlo.outcome.limits", fix="state the same limits in every law of the set")
+        total = f"{scenario.outcome.vehicle}.qdot_total" if scenario.outcome is not None else None
+        if "heat_rate" in limits and total not in scenario.record:
+            raise InputError(f"the heat-rate limit is checked on the total heating, {total}, which it does not "
+                             "record", file=path, entry="record", fix=f"add {total} to record")
     return found
 
 

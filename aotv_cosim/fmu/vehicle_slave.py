@@ -88,10 +88,16 @@ class VehicleSlave(AotvSlave):
         o("psi", "rad", "Heading from east toward north", x(5))
         o("inclination", "rad", "Orbit inclination arccos(cos phi cos psi) (seed 001 Sec. 3.1)",
           lambda: orbit.inclination(self.x[2], self.x[5]))
-        o("qdot", "W/m2", "Stagnation-point heating rate k_q rho^N v^M / sqrt(R_n)", self._heating,
-          depends_on=("rho",))
+        o("qdot", "W/m2", "Stagnation-point heating rate k_q rho^N v^M / sqrt(R_n) (convective)",
+          lambda: self._heating()[0], depends_on=("rho",))
         o("heat_load", "J/m2", "Stagnation-point heat load, the time integral of qdot since the start "
           "(trapezoidal over each step, density held as in the integration)", lambda: self.heat_load)
+        o("qdot_rad", "W/m2", "Stagnation-point radiative heating rate of Earth entry (Tauber-Sutton; 0 "
+          "below 9000 m/s)", lambda: self._heating()[1], depends_on=("rho",))
+        o("qdot_total", "W/m2", "Stagnation-point heating rate qdot + qdot_rad (convective + radiative)",
+          lambda: sum(self._heating()), depends_on=("rho",))
+        o("heat_load_total", "J/m2", "Stagnation-point heat load of qdot_total since the start "
+          "(trapezoidal over each step, as heat_load)", lambda: self.heat_load_total)
         o("qbar", "Pa", "Dynamic pressure rho v^2 / 2",
           lambda: aero.dynamic_pressure(self.rho, self.x[3]), depends_on=("rho",))
         o("lift_acc", "m/s2", "Lift specific force L/m", lambda: self._specific_forces()[0],
@@ -115,7 +121,7 @@ class VehicleSlave(AotvSlave):
     def reset_state(self):
         """Initial state from the parameters."""
         self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
-        self.heat_load = 0.0
+        self.heat_load = self.heat_load_total = 0.0
         self._forces = (-1, None)
         self._qdot = (-1, None)
 
@@ -131,10 +137,12 @@ class VehicleSlave(AotvSlave):
             return False
         args = (self.rho, *self.aero_forces(), self.sigma, self.gravity_model, self.g0, self.mu,
                 self.heading_model)
-        q_start = self._heating()
+        q_start, q_rad_start = self._heating()
         self.x = point_mass.integrate(self.x, step_size, self.max_substep, args)
         self.revision += 1
-        self.heat_load += 0.5 * step_size * (q_start + self._heating())
+        q_end, q_rad_end = self._heating()
+        self.heat_load += 0.5 * step_size * (q_start + q_end)
+        self.heat_load_total += 0.5 * step_size * ((q_start + q_rad_start) + (q_end + q_rad_end))
         if all(map(math.isfinite, self.x)):
             return True
         self.log(f"{type(self).__name__}: step refused, the state is not finite after it: "
@@ -154,14 +162,18 @@ class VehicleSlave(AotvSlave):
         return forces
 
     def _heating(self):
-        """Stagnation heating rate (W/m^2) at the current state and density, computed once per
-        `revision`: the end of a step's heat-load trapezoid is the qdot read after it."""
-        revision, qdot = self._qdot
+        """(convective, radiative) stagnation heating rates (W/m^2) at the current state and
+        density, computed once per `revision`: the end of a step's heat-load trapezoid is the qdot
+        read after it. Radiative: `aero.radiative_heating_rate` (Tauber-Sutton, Earth air; every
+        vehicle of this package flies at Earth; outside the relation's stated range its docstring
+        says what it gives)."""
+        revision, rates = self._qdot
         if revision != self.revision:
-            qdot = aero.stagnation_heating_rate(self.rho, self.x[3], self.k_q, self.q_rho_exp,
-                                                self.q_v_exp, self.nose_radius)
-            self._qdot = (self.revision, qdot)
-        return qdot
+            rates = (aero.stagnation_heating_rate(self.rho, self.x[3], self.k_q, self.q_rho_exp,
+                                                  self.q_v_exp, self.nose_radius),
+                     aero.radiative_heating_rate(self.rho, self.x[3], self.nose_radius))
+            self._qdot = (self.revision, rates)
+        return rates
 
     def _bound(self):
         return 0.5 * self.x[3] ** 2 < self.mu / self.x[0]

@@ -14,8 +14,10 @@ Metrics (SI; nan when the run does not provide them): exit-orbit apogee and peri
 (the circularisation impulse at the exit orbit's own apogee, Ch. 9), dv_total (the two-impulse
 correction into the circular orbit at the target altitude, `physics.orbit_correction`), peak
 heat rate (W/m^2), heat load (J/m^2, if the vehicle integrates it), peak load factor, the
-control effort integrals of |u| (m/s) and u^2 (m^2/s^3) up to the exit, and saturation time (s, if
-the actuator reports it).
+control effort integrals of |u| (m/s) and u^2 (m^2/s^3) up to the exit, saturation time (s, if
+the actuator reports it), and the peak heat rate and heat load of the total (convective plus
+radiative) stagnation heating (the vehicle's qdot_total and heat_load_total; the first two heating
+metrics are the convective ones, qdot and heat_load).
 """
 
 import math
@@ -72,6 +74,8 @@ class RunRecord:
     int_abs_u: float = NAN
     int_u2: float = NAN
     saturation_time: float = NAN
+    peak_heat_rate_total: float = NAN
+    heat_load_total: float = NAN
 
 
 @dataclass(frozen=True)
@@ -91,6 +95,8 @@ class RunOutcome:
     int_abs_u: float = NAN
     int_u2: float = NAN
     saturation_time: float = NAN
+    peak_heat_rate_total: float = NAN
+    heat_load_total: float = NAN
 
     def as_dict(self, prefix: str = "outcome.") -> dict:
         """{prefix + field: value}, for a row or a summary."""
@@ -115,7 +121,8 @@ def classify(run: RunRecord, c: CaptureCriteria) -> RunOutcome:
     """Classify one run by the rules of the module docstring and compute its metrics."""
     metrics = dict(peak_heat_rate=run.peak_heat_rate, heat_load=run.heat_load,
                    peak_load_factor=run.peak_load_factor, int_abs_u=run.int_abs_u,
-                   int_u2=run.int_u2, saturation_time=run.saturation_time)
+                   int_u2=run.int_u2, saturation_time=run.saturation_time,
+                   peak_heat_rate_total=run.peak_heat_rate_total, heat_load_total=run.heat_load_total)
     if run.exit is not None:
         apogee, perigee, error, dv_circ, dv_total = _exit_orbit(run.exit, c)
         metrics.update(apogee=apogee, perigee=perigee, apogee_error=error, dv_circ=dv_circ,
@@ -164,8 +171,8 @@ def record_from_row(row: dict, c: CaptureCriteria, vehicle: str = "vehicle",
     """RunRecord of a Monte Carlo row (`montecarlo.worker.columns`): the exit.* values when the
     scenario's stop condition (the exit crossing) fired there climbing, else the final state if it
     is above the exit altitude and climbing. Signals
-    read: {vehicle}.h, v, gamma, qdot, load_factor, int_abs_u, int_u2, heat_load and
-    {actuator}.saturation_time (nan when not recorded)."""
+    read: {vehicle}.h, v, gamma, qdot, load_factor, int_abs_u, int_u2, heat_load, qdot_total,
+    heat_load_total and {actuator}.saturation_time (nan when not recorded)."""
     def get(prefix, name):
         return _number(row.get(f"{prefix}.{name}", NAN))
 
@@ -178,7 +185,8 @@ def record_from_row(row: dict, c: CaptureCriteria, vehicle: str = "vehicle",
         exit=state if exited else None, min_altitude=get("min", f"{v}.h"),
         peak_heat_rate=get("max", f"{v}.qdot"), heat_load=get(at, f"{v}.heat_load"),
         peak_load_factor=get("max", f"{v}.load_factor"), int_abs_u=get(at, f"{v}.int_abs_u"),
-        int_u2=get(at, f"{v}.int_u2"), saturation_time=get(at, f"{actuator}.saturation_time"))
+        int_u2=get(at, f"{v}.int_u2"), saturation_time=get(at, f"{actuator}.saturation_time"),
+        peak_heat_rate_total=get("max", f"{v}.qdot_total"), heat_load_total=get(at, f"{v}.heat_load_total"))
 
 
 def record_from_summary(summary: dict, c: CaptureCriteria, vehicle: str = "vehicle",
@@ -205,4 +213,5 @@ def record_from_summary(summary: dict, c: CaptureCriteria, vehicle: str = "vehic
         exit=state if exited else None, min_altitude=extreme(lows, "h"),
         peak_heat_rate=extreme(highs, "qdot"), heat_load=at("heat_load"),
         peak_load_factor=extreme(highs, "load_factor"), int_abs_u=at("int_abs_u"),
-        int_u2=at("int_u2"), saturation_time=_number(values.get(f"{actuator}.saturation_time", NAN)))
+        int_u2=at("int_u2"), saturation_time=_number(values.get(f"{actuator}.saturation_time", NAN)),
+        peak_heat_rate_total=extreme(highs, "qdot_total"), heat_load_total=at("heat_load_total"))

@@ -2,8 +2,9 @@
 
 A scenario asks for them with `"montecarlo": {"outcome": {...}}`, read once into its typed settings
 (`model.outcome_settings.OutcomeSettings`: `criteria`, the vehicle and actuator component names),
-which every function here takes as `settings`. The row's own final/min/max/exit values are what is classified (`record_from_row`), so the
-scenario records the vehicle's h, v and gamma (and heat_load for the heat-load column). A run that
+which every function here takes as `settings`. The row's own final/min/max/exit values are what is
+classified (`record_from_row`), so the scenario records the vehicle's h, v and gamma (and heat_load,
+qdot_total, heat_load_total for the heat-load and total-heating columns). A run that
 reaches the ground is stopped there by the master's range watch on h (status impact) and
 classified impact.
 """
@@ -24,7 +25,8 @@ UNITS = {CLASS: "", REASON: "", "outcome.apogee": "m", "outcome.perigee": "m",
          "outcome.apogee_error": "m", "outcome.dv_circ": "m/s", "outcome.dv_total": "m/s",
          "outcome.peak_heat_rate": "W/m2", "outcome.heat_load": "J/m2",
          "outcome.peak_load_factor": "1", "outcome.int_abs_u": "m/s", "outcome.int_u2": "m2/s3",
-         "outcome.saturation_time": "s"}
+         "outcome.saturation_time": "s", "outcome.peak_heat_rate_total": "W/m2",
+         "outcome.heat_load_total": "J/m2"}
 """Every outcome column and its SI unit (the order is the rows' column order)."""
 
 REQUIRED = ("h", "v", "gamma")

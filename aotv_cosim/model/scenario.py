@@ -6,6 +6,7 @@ from pathlib import Path
 
 from aotv_cosim.errors import InputError, raise_if_any
 from aotv_cosim.model.capabilities import check_capabilities, default_experiment
+from aotv_cosim.model import bindings as _bindings
 from aotv_cosim.model.dispersion_sets import dispersion_entries
 from aotv_cosim.model.documents import load_document
 from aotv_cosim.model.fmu_file import FmuResolver
@@ -111,6 +112,8 @@ class Scenario:
     """Expectations not checked because start or stop was overridden (see `load_scenario`)."""
     step_timeout: "float | None" = None
     """Wall-clock limit of one communication step, s (`simulation.watchdog`); None: no limit."""
+    bindings: dict = field(default_factory=dict)
+    """{target: source} parameters that take another parameter's value in every run (`model.bindings`)."""
 
 
 def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: FmuResolver) -> Scenario:
@@ -170,6 +173,8 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: Fm
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
         step_timeout=doc.get("step_timeout"),
     )
+    scenario.bindings = _bindings.checked(doc.get("bindings", {}), system, path, given={**overrides, **(sets or {})},
+                                          dispersed=[d.signal for d in scenario.dispersions])
     check_times(scenario)
     check_capabilities(scenario)
     _check_signals(scenario, doc)

@@ -54,6 +54,7 @@ from aotv_cosim.simulation.interrupts import Interrupted
 from aotv_cosim.simulation.fmi2_instance import Fmi2Instance
 from aotv_cosim.simulation.fmi3_instance import Fmi3Instance
 from aotv_cosim.simulation.rows import CHUNK, Recorder, Rows
+from aotv_cosim.model.bindings import bound_values
 from aotv_cosim.model.ranges import RangeWatch
 from aotv_cosim.model.scenario import crossing
 from aotv_cosim.model.variable_types import Strings
@@ -163,7 +164,7 @@ class Master:
                                   "guid": comp.fmu.guid, "fmi_calls": inst.calls,
                                   "wrapper": built_wrapper(comp.fmu.path)}
         drawn = {}
-        for signal, value in self.overrides.items():
+        for signal, value in {**self.overrides, **bound_values(s, self.overrides)}.items():
             comp, var = signal.split(".", 1)
             drawn.setdefault(comp, {})[var] = value
         for name, comp in s.system.components.items():

@@ -37,7 +37,7 @@ def test_nominal_exit_is_captured_with_the_circularisation_as_its_only_correctio
     assert math.isnan(out.heat_load) and math.isnan(out.saturation_time)
     row = out.as_dict()
     assert row["outcome.outcome"] == "captured" and row["outcome.dv_total"] == out.dv_total
-    assert len(row) == 13 and all(k.startswith("outcome.") for k in row)
+    assert len(row) == 15 and all(k.startswith("outcome.") for k in row)
 
 
 def test_fast_exit_skips_out_above_the_band():
@@ -109,10 +109,13 @@ def _row(**values):
 def test_row_with_an_exit_event():
     row = _row(**{"exit.time": 300.1, "exit.vehicle.h": 90e3, "exit.vehicle.v": 8150.0,
                   "exit.vehicle.gamma": 0.0144, "exit.vehicle.int_abs_u": 116.0,
-                  "final.vehicle.int_abs_u": 999.0})
+                  "final.vehicle.int_abs_u": 999.0, "max.vehicle.qdot_total": 5.1e5,
+                  "exit.vehicle.heat_load_total": 1.2e8, "final.vehicle.heat_load_total": 9.9e9})
     record = record_from_row(row, C)
     assert record.exit == NOMINAL_EXIT and record.int_abs_u == 116.0 and math.isnan(record.int_u2)
     assert record.peak_heat_rate == 4.6e5 and classify(record, C).outcome == "captured"
+    out = classify(record, C)  # the total (convective + radiative) heating beside the convective
+    assert (out.peak_heat_rate_total, out.heat_load_total) == (5.1e5, 1.2e8) and math.isnan(out.heat_load)
 
 
 def test_row_without_event_exits_only_if_out_and_climbing():

@@ -89,3 +89,41 @@ def test_planar_rk4_step_equals_the_general_step_to_the_bit():
         d = pm._rates([xi + dt * ci for xi, ci in zip(x, c)], *held)
         general = [xi + dt / 6.0 * (ai + 2.0 * bi + 2.0 * ci + di) for xi, ai, bi, ci, di in zip(x, a, b, c, d)]
         assert pm._rk4_planar(x, dt, rho, lift, cl, cd, gravity, 9.81, 3.986e14) == general
+
+
+def test_tauber_sutton_radiative_heating_at_table_points():
+    """Tauber & Sutton (1991) eq. (1), air: q = 4.736e4 r_n^a rho^1.22 f(V) W/cm^2, f(10 km/s) = 35,
+    f(10.25 km/s) = 55 (Table 1, linear between), a = 1.072e6 V^-1.88 rho^-0.325 capped by r_n."""
+    rho = 2.0e-4
+    a = 1.072e6 * 10000.0 ** -1.88 * rho ** -0.325
+    assert 0.5 < a < 0.6  # so the 1 <= r_n <= 2 m cap (0.6) leaves it, the r_n > 2 m cap (0.5) acts
+    assert aero.radiative_heating_rate(rho, 10000.0, 1.5) == pytest.approx(
+        4.736e4 * 1.5 ** a * rho ** 1.22 * 35.0 * 1e4, rel=1e-12)
+    assert aero.radiative_heating_rate(rho, 10000.0, 2.5) == pytest.approx(
+        4.736e4 * 2.5 ** 0.5 * rho ** 1.22 * 35.0 * 1e4, rel=1e-12)
+    a_mid = 1.072e6 * 10125.0 ** -1.88 * rho ** -0.325
+    assert aero.radiative_heating_rate(rho, 10125.0, 1.5) == pytest.approx(
+        4.736e4 * 1.5 ** a_mid * rho ** 1.22 * 45.0 * 1e4, rel=1e-12)
+
+
+def test_tauber_sutton_exponent_caps():
+    """a <= 1 always, <= 0.6 for 1 <= r_n <= 2 m (2 m included), <= 0.5 above 2 m."""
+    thin, v = 1.0e-7, 10000.0  # raw a far above 1
+    assert aero.radiative_exponent(thin, v, 0.5) == 1.0
+    assert aero.radiative_exponent(thin, v, 1.0) == aero.radiative_exponent(thin, v, 2.0) == 0.6
+    assert aero.radiative_exponent(thin, v, 2.01) == aero.radiative_exponent(thin, v, 4.0) == 0.5
+    dense = 1.0e-2
+    assert aero.radiative_exponent(dense, v, 0.5) == pytest.approx(1.072e6 * v ** -1.88 * dense ** -0.325)
+
+
+def test_tauber_sutton_outside_its_range():
+    """0 below the table's 9000 m/s and without air; f held at 2040 above 16 km/s; the range flag."""
+    assert aero.radiative_heating_rate(1e-4, 8999.0, 1.0) == 0.0
+    assert aero.radiative_heating_rate(0.0, 12000.0, 1.0) == 0.0
+    assert aero.radiative_heating_rate(1e-4, 9000.0, 1.0) > 0.0
+    # r_n = 1 m: r_n^a = 1 whatever a, so only f(V) differs between the speeds
+    assert aero.radiative_heating_rate(1e-4, 17000.0, 1.0) == aero.radiative_heating_rate(1e-4, 16000.0, 1.0)
+    assert aero.radiative_heating_in_range(1e-4, 10300.0, 2.0)
+    assert not aero.radiative_heating_in_range(1e-4, 9700.0, 2.0)  # below 10 km/s: table, not the fit
+    assert not aero.radiative_heating_in_range(3e-5, 10300.0, 2.0)
+    assert not aero.radiative_heating_in_range(1e-4, 10300.0, 4.0)

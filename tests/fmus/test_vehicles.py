@@ -72,3 +72,21 @@ def test_point_mass_vehicle_reports_the_exit_orbit():
     assert row["apogee_alt"] == pytest.approx(apogee, rel=1e-12)
     assert row["dv_circ"] == pytest.approx(orbit.circularization_delta_v(h, v, gamma), rel=1e-12)
     assert row["apogee_alt"] > h and row["dv_circ"] > 0.0
+
+
+def test_trim_bank_vehicle_adds_radiative_heating():
+    """qdot_total = qdot (Sutton-Graves) + qdot_rad (Tauber-Sutton) at 10.3 km/s; heat_load_total the
+    same trapezoid over qdot_total as heat_load over qdot (density held)."""
+    from aotv_cosim.physics import aero
+
+    rho, v0, rn = 1.0e-4, 10300.0, 2.0
+    result = simulate_fmu(fmu_build.ensure_fmu("TrimBankVehicle"), stop_time=2.0, step_size=0.5,
+                          output_interval=0.5, start_values={"rho": rho, "v0": v0, "nose_radius": rn},
+                          output=["v", "qdot", "qdot_rad", "qdot_total", "heat_load", "heat_load_total"])
+    q_rad = [aero.radiative_heating_rate(rho, v, rn) for v in result["v"]]
+    np.testing.assert_allclose(result["qdot_rad"], q_rad, rtol=1e-12)
+    np.testing.assert_allclose(result["qdot_total"], result["qdot"] + result["qdot_rad"], rtol=1e-12)
+    q_total = result["qdot_total"]
+    expected = np.concatenate([[0.0], np.cumsum(0.25 * (q_total[:-1] + q_total[1:]))])
+    np.testing.assert_allclose(result["heat_load_total"], expected, rtol=1e-12)
+    assert np.all(result["heat_load_total"][1:] > result["heat_load"][1:])

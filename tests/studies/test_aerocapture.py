@@ -169,11 +169,31 @@ def test_limits_are_counted_and_absent_from_a_set_without_them():
     assert seed_set and limits.of_set(seed_set) == {} and limits.columns({}) == []  # the seed-000 scorecard is unchanged
     stated = limits.of_set(loaded(SCENARIOS / "benchmark_aerocapture" / "afe"))
     assert stated == {"load_factor": 5.0, "heat_rate": 1.0e6, "dynamic_pressure": 20000.0}
-    rows = [{"status": "completed", "outcome.peak_load_factor": g, "outcome.peak_heat_rate": 5e5,
-             "max.vehicle.qbar": q, "outcome.saturation_time": 10.0, "exit.time": 300.0,
-             "exit.actuator.reversals": n, "final.actuator.reversals": n}
-            for g, q, n in ((4.0, 1e4, 1.0), (6.0, 1e4, 3.0), (6.5, 3e4, 2.0))]
-    card = limits.score(rows, stated)
-    assert (card["over_load_factor"], card["over_heat_rate"], card["over_dynamic_pressure"]) == (2, 0, 1)
-    assert card["over_any_limit"] == 2 and card["reversals_max"] == 3.0 and card["reversals_p50"] == 2.0
+    rows = [{"status": "completed", "outcome.peak_load_factor": g, "outcome.peak_heat_rate": 9e5,
+             "outcome.peak_heat_rate_total": total, "max.vehicle.qbar": q, "outcome.saturation_time": 10.0,
+             "exit.time": 300.0, "exit.actuator.reversals": n, "final.actuator.reversals": n}
+            for g, q, n, total in ((4.0, 1e4, 1.0, 1.1e6), (6.0, 1e4, 3.0, 9.5e5), (6.5, 3e4, 2.0, 9.9e5))]
+    card = limits.score(rows, stated)  # the heat-rate limit counts the total heating, not the convective
+    assert (card["over_load_factor"], card["over_heat_rate"], card["over_dynamic_pressure"]) == (2, 1, 1)
+    assert card["over_any_limit"] == 3 and card["reversals_max"] == 3.0 and card["reversals_p50"] == 2.0
     assert [c for c, _ in limits.columns(stated)] == list(card)
+
+
+@pytest.mark.integration
+def test_a_heat_rate_limit_needs_the_total_heating_recorded(tmp_path):
+    """The 1 MW/m2 limit is checked on qdot_total: a set that states it without recording it is refused."""
+    import json
+
+    from aotv_cosim.campaigns import limits
+    from aotv_cosim.errors import InputError
+    from aotv_cosim.simulation.loading import load_scenario
+
+    source = SCENARIOS / "benchmark_aerocapture" / "afe" / "npc_bank.json"
+    doc = json.loads(source.read_text())
+    doc["record"].remove("vehicle.qdot_total")
+    doc["system"] = str(source.parent / doc["system"])
+    doc["dispersion_set"] = str(source.parent / doc["dispersion_set"])
+    path = tmp_path / "law.json"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="vehicle.qdot_total"):
+        limits.of_set([(path, load_scenario(path))])
