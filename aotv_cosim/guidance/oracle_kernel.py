@@ -114,11 +114,12 @@ static void rk4_planar(double *x, double dt, double rho, const struct model *m)
     x[5] = 0.0;
 }
 
-/* point_mass._rk4_general (lift_acc 0, inverse-square gravity, full heading equation) over dt. */
-static void rk4_general(double *x, double dt, double rho, double sigma, const struct model *m)
+/* point_mass._rk4_general (lift_acc 0, inverse-square gravity, full heading equation) over dt,
+   with cos(sigma) and sin(sigma) of the bank (the values the function takes at each call). */
+static void rk4_general(double *x, double dt, double rho, double cos_sigma, double sin_sigma,
+                        const struct model *m)
 {
     const double cl = m->cl, cd = m->cd, mu = m->mu, lift_acc = 0.0;
-    double cos_sigma = cos(sigma), sin_sigma = sin(sigma);
     int level = sin_sigma == 0.0 && cos_sigma == 1.0;
     double half_rho = 0.5 * rho;
     double x0 = x[0], x1 = x[1], x2 = x[2], x3 = x[3], x4 = x[4], x5 = x[5];
@@ -180,7 +181,8 @@ static void rk4_planar3(double *x, double h, double rho, double cos_sigma, const
     x[4] = y[2] + w * (k[0][2] + 2.0 * k[1][2] + 2.0 * k[2][2] + k[3][2]);
 }
 
-/* oracle_bank._vehicle: the vehicle FMU's state after a communication step with rho, sigma held. */
+/* oracle_bank._vehicle: the vehicle FMU's state after a communication step with rho, sigma held.
+   The bank's cosine and sine, which each RK4 substep of point_mass takes again, are taken once. */
 static void vehicle(double *x, double rho, double sigma, const struct model *m)
 {
     double period = m->period;
@@ -188,12 +190,19 @@ static void vehicle(double *x, double rho, double sigma, const struct model *m)
     if (n < 1)
         n = 1;
     if (m->deadband < M_PI) {
-        double h = period / n;
+        double h = period / n, cos_sigma = 0.0, sin_sigma = 0.0;
+        int trig = 0;
         for (int i = 0; i < n; i++) {
-            if (x[2] == 0.0 && x[5] == 0.0 && sigma == 0.0)
+            if (x[2] == 0.0 && x[5] == 0.0 && sigma == 0.0) {
                 rk4_planar(x, h, rho, m);
-            else
-                rk4_general(x, h, rho, sigma, m);
+                continue;
+            }
+            if (!trig) {
+                cos_sigma = cos(sigma);
+                sin_sigma = sin(sigma);
+                trig = 1;
+            }
+            rk4_general(x, h, rho, cos_sigma, sin_sigma, m);
         }
         return;
     }
@@ -202,10 +211,16 @@ static void vehicle(double *x, double rho, double sigma, const struct model *m)
         rk4_planar3(x, period / n, rho, cos_sigma, m);
 }
 
+/* fmod(y, 2 pi): y itself when |y| < 2 pi (fmod is exact: its quotient is then 0), the call else. */
+static double fmod_two_pi(double y)
+{
+    return fabs(y) < 2.0 * M_PI ? y : fmod(y, 2.0 * M_PI);
+}
+
 /* bank_actuator.wrap. */
 static double wrap(double angle)
 {
-    double a = fmod(angle + M_PI, 2.0 * M_PI);
+    double a = fmod_two_pi(angle + M_PI);
     a = a <= 0.0 ? a + 2.0 * M_PI : a;
     return a - M_PI;
 }
@@ -224,7 +239,7 @@ static void actuator(double *sigma_io, double *rate_io, double command, double d
     double dv = m->accel_limit * h;
     double settle = dv * h, two_accel = 2.0 * m->accel_limit;
     for (int i = 0; i < n; i++) {
-        double e = fmod(command - sigma + pi, two_pi);
+        double e = fmod_two_pi(command - sigma + pi);
         e = (e <= 0.0 ? e + two_pi : e) - pi;
         double size = fabs(e);
         if (size <= settle && fabs(rate) <= dv) {
