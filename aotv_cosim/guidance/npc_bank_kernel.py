@@ -13,7 +13,8 @@ pow (what CPython's float power calls for a positive base; `a ** 3` is pow(a, 3.
 exp, sin and cos are the C library's (what `math` calls), and it is compiled with
 `c_kernels.FLAGS` (no fused multiply-add, no builtin replacement of the library calls, no fast
 math): the predictions equal the Python loop's to the bit (`tests/studies/test_npc_bank_kernel.py`
-compares them over random states). The US76 tables (layer bases, spline nodes, ln rho and second
+compares them over random states). The US76 density is `us76_kernel`'s C source, which the
+oracle's kernel includes too; its tables (layer bases, spline nodes, ln rho and second
 derivatives) are passed from `physics.us76`, not retyped.
 
 Compiled on first use into the FMU cache's `kernels` folder (`c_kernels.load`); without a
@@ -25,69 +26,17 @@ from array import array
 from functools import lru_cache
 from pathlib import Path
 
-from aotv_cosim.guidance import c_kernels
-from aotv_cosim.physics import us76
+from aotv_cosim.guidance import c_kernels, us76_kernel
 
-SOURCE = r"""
-#include <math.h>
-
+SOURCE = us76_kernel.SOURCE + r"""
 /* The model of one prediction (npc_bank.BankModel, BankSettings, the scale and the US76 tables). */
 struct model {
     double x, cl_s_m, cd_s_m, atmosphere, rho_ref, h_ref, scale_height, r_earth, gravity_model, g0, mu;
     double t_switch, cos_sigma_2;
     const double *scale_h, *scale_k;
     int n_scale, cursor;
-    double r0, gmr, m0, r_star, z_86;
-    int n_bases, n_nodes;
-    const double *bases, *nodes, *ln_rho, *m2;
+    struct us76 atm;
 };
-
-/* us76.lower(z)[2]: the layer of the geopotential altitude, hydrostatic pressure, density. */
-static double us76_lower(double z, const struct model *m)
-{
-    double h = m->r0 * z / (m->r0 + z);
-    int k = m->n_bases - 1;
-    while (k > 0 && h < m->bases[4 * k])
-        k--;
-    const double *b = m->bases + 4 * k;
-    double h_b = b[0], t_b = b[1], p_b = b[2], lapse = b[3], t, p;
-    if (lapse == 0.0) {
-        t = t_b;
-        p = p_b * exp(-m->gmr * (h - h_b) / t_b);
-    } else {
-        t = t_b + lapse * (h - h_b);
-        p = p_b * pow(t_b / t, m->gmr / lapse);
-    }
-    return p * m->m0 / (m->r_star * t);
-}
-
-/* us76.upper_density: natural cubic spline in ln rho (bisect_left for the interval). */
-static double us76_upper(double z, const struct model *m)
-{
-    const double *nodes = m->nodes, *y = m->ln_rho, *m2 = m->m2;
-    int n = m->n_nodes, lo = 0, hi = n;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (nodes[mid] < z)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    int k = lo - 1;
-    if (k < 0)
-        k = 0;
-    if (k > n - 2)
-        k = n - 2;
-    double h = nodes[k + 1] - nodes[k];
-    if (z >= nodes[n - 1]) {
-        double slope = (y[n - 1] - y[n - 2]) / h;
-        return exp(y[n - 1] + slope * (z - nodes[n - 1]));
-    }
-    double a = (nodes[k + 1] - z) / h;
-    double b = 1.0 - a;
-    double ln_rho = a * y[k] + b * y[k + 1] + ((pow(a, 3.0) - a) * m2[k] + (pow(b, 3.0) - b) * m2[k + 1]) * h * h / 6.0;
-    return exp(ln_rho);
-}
 
 /* ScaleProfile.at: piecewise linear through the nodes (altitudes strictly ascending), end values
    held; the interval is hunted from the last one (same interval as bisect_right). */
@@ -113,7 +62,7 @@ static double density(double h, struct model *m)
 {
     double scale = scale_at(h, m);
     if (m->atmosphere == 1.0)
-        return scale * (h <= m->z_86 ? us76_lower(h, m) : us76_upper(h, m));
+        return scale * us76_density(h, &m->atm);
     return scale * (m->rho_ref * exp(-(h - m->h_ref) / m->scale_height));
 }
 
@@ -134,8 +83,7 @@ static void rates(double t, double r, double v, double gamma, struct model *m, d
 /* p: t_k, h0, v0, gamma0, x, cl_s_m, cd_s_m, atmosphere, rho_ref, h_ref, scale_height, r_earth,
    gravity_model, g0, mu, h_exit, step, horizon, h_floor, t_switch, cos(sigma_2).
    scale_h, scale_k, n_scale: the density scale nodes (n_scale >= 1).
-   u: R0, GMR, M0, R_STAR, Z_86, n_bases, bases (H_b, T_Mb, P_b, L_b) x n_bases, n_nodes, nodes,
-   ln rho, second derivatives (n_nodes each).
+   u: the US76 tables (us76_unpack).
    out: time, h, v, gamma at the exit crossing (returns 1) or where the flight ended (returns 0). */
 int aotv_npc_bank_fly(const double *p, const double *scale_h, const double *scale_k, int n_scale,
                       const double *u, double *out)
@@ -145,13 +93,7 @@ int aotv_npc_bank_fly(const double *p, const double *scale_h, const double *scal
     m.h_ref = p[9]; m.scale_height = p[10]; m.r_earth = p[11]; m.gravity_model = p[12];
     m.g0 = p[13]; m.mu = p[14]; m.t_switch = p[19]; m.cos_sigma_2 = p[20];
     m.scale_h = scale_h; m.scale_k = scale_k; m.n_scale = n_scale; m.cursor = 0;
-    m.r0 = u[0]; m.gmr = u[1]; m.m0 = u[2]; m.r_star = u[3]; m.z_86 = u[4];
-    m.n_bases = (int)u[5];
-    m.bases = u + 6;
-    m.n_nodes = (int)u[6 + 4 * m.n_bases];
-    m.nodes = u + 7 + 4 * m.n_bases;
-    m.ln_rho = m.nodes + m.n_nodes;
-    m.m2 = m.ln_rho + m.n_nodes;
+    us76_unpack(&m.atm, u);
 
     const double t_k = p[0], r_earth = m.r_earth, h_exit = p[15], step = p[16];
     double y0 = r_earth + p[1], y1 = p[2], y2 = p[3];
@@ -211,17 +153,6 @@ def available() -> bool:
     return _function() is not None
 
 
-@lru_cache(maxsize=1)
-def us76_tables():
-    """The US76 constants and tables in the layout of `SOURCE`'s `u` argument (ctypes array)."""
-    bases = us76._bases()
-    nodes, ln_rho, m2 = us76._spline()
-    values = [us76.R0, us76.GMR, us76.M0, us76.R_STAR, us76.Z_86, float(len(bases))]
-    values += [float(v) for base in bases for v in base]
-    values += [float(len(nodes)), *map(float, nodes), *map(float, ln_rho), *map(float, m2)]
-    return (ctypes.c_double * len(values))(*values)
-
-
 _PARAMETERS = ctypes.c_double * 21
 
 
@@ -242,5 +173,5 @@ def flight(parameters, scale_nodes):
     if function is None:
         return None
     out = (ctypes.c_double * 4)()
-    exited = function(_PARAMETERS(*parameters), *scale_nodes, us76_tables(), out)
+    exited = function(_PARAMETERS(*parameters), *scale_nodes, us76_kernel.tables(), out)
     return bool(exited), out[0], out[1], out[2], out[3]
