@@ -175,9 +175,11 @@ def sweep_plot(out_dir, rows, parameters, units, outcome_settings) -> str:
 
 
 def corridor_plot(out_dir, result) -> str:
-    """corridor.png: apogee error (km) against the entry flight-path angle (deg) of the runs
-    flown at full lift up and full lift down, the capture band, and the corridor between the
-    two bounds shaded, its width in the title."""
+    """corridor.png: apogee error (km) against the entry flight-path angle (deg) of the runs flown
+    at full lift up and full lift down, on an axis clipped to +-8 capture bands around the aim
+    (runs beyond it, and those that never exit or leave on an unbound orbit, drawn as triangles on
+    the axis's edge), the capture band, each bound dashed, the corridor shaded, its width in the
+    title."""
     import math
 
     import matplotlib
@@ -187,24 +189,46 @@ def corridor_plot(out_dir, result) -> str:
 
     fig, ax = plt.subplots(figsize=(7, 4.6))
     band = result["band_m"] / 1e3
+    limit = 8 * band
     ax.axhspan(-band, band, color="tab:green", alpha=0.15, label=f"capture band +-{band:g} km")
-    for bound, name, color in (("steep", "full lift up", "tab:blue"), ("shallow", "full lift down", "tab:red")):
-        points = sorted((g, e) for g, e in result[bound]["points"] if math.isfinite(e))
-        ax.plot([math.degrees(g) for g, _ in points], [e / 1e3 for _, e in points], "o-", ms=3, lw=1,
-                color=color, label=f"{name} (L/D = {result['lift_to_drag']:g})")
+    own = result["plant"] == "bank"
+    for bound, name, sigma, color in (("steep", "full lift up", 0, "tab:blue"),
+                                      ("shallow", "full lift down", 180, "tab:red")):
+        points = sorted((math.degrees(g), float(e) / 1e3) for g, e in result[bound]["points"])
+        how = f"sigma = {sigma} deg" + (f", L/D {result['lift_to_drag']:.3g} of the vehicle"
+                                         if result["lift_to_drag"] is not None else "") if own else \
+            f"L/D = {result['lift_to_drag']:g}"
+        clipped_line(ax, [g for g, _ in points], [e for _, e in points], limit, color, f"{name} ({how})")
         ax.axvline(math.degrees(result[bound]["gamma0"]), color=color, ls="--", lw=1)
     ax.axvspan(math.degrees(result["steep"]["gamma0"]), math.degrees(result["shallow"]["gamma0"]),
                color="0.85", zorder=0, label="corridor")
     ax.axvline(math.degrees(result["nominal_gamma0"]), color="black", lw=1, label="nominal entry")
-    ax.set_ylim(-8 * band, 8 * band)
+    ax.set_ylim(-1.08 * limit, 1.08 * limit)
     ax.set_xlabel("entry flight-path angle gamma0 [deg]", fontsize=9)
-    ax.set_ylabel("exit apogee error [km]", fontsize=9)
+    ax.set_ylabel(f"exit apogee error [km] (clipped at +-{limit:g})", fontsize=9)
+    aim = "the target apogee" if result["aim"] == "target" else "the band's edges"
     ax.set_title(f"corridor {math.degrees(result['steep']['gamma0']):.4f} ... "
                  f"{math.degrees(result['shallow']['gamma0']):.4f} deg, width {result['width_deg']:.4f} deg "
-                 f"(bisection to +-{result['tolerance_m']:g} m of the band edge)", fontsize=8)
+                 f"(exits on {aim}, to {math.degrees(result['angle_tolerance_rad']):.1e} deg)", fontsize=8)
     axes_style(ax)
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=7, loc="best")
     return _save(fig, out_dir, "corridor.png")
+
+
+def clipped_line(ax, x, y, limit, color, label) -> None:
+    """y (display units) against x as a line through its points, every value beyond +-limit (an
+    infinite one too) drawn as a triangle on that edge pointing away: the axis is clipped, not
+    the data."""
+    import numpy as np
+
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    shown = np.clip(np.nan_to_num(y, nan=-np.inf), -limit, limit)
+    ax.plot(x, shown, "-", lw=1, color=color, label=label)
+    inside = np.abs(shown) < limit
+    ax.plot(x[inside], shown[inside], "o", ms=3, color=color)
+    for sign, marker in ((1, "^"), (-1, "v")):
+        edge = shown == sign * limit
+        ax.plot(x[edge], shown[edge], marker, ms=5, color=color, mfc="none", clip_on=False)
 
 
 def _grid(plt, n):

@@ -12,8 +12,12 @@ from aotv_cosim.guidance import lateral, npc_bank
 from aotv_cosim.guidance.lift_to_bank import bank_for_lift
 from aotv_cosim.physics import aerocapture_vehicles as av
 from aotv_cosim.physics import bank_actuator, density_profile, us76
-from aotv_cosim.studies.aerocapture_corridor import model_of
 from tests.helpers import SCENARIOS
+
+
+def model_of(vehicle: av.TrimVehicle) -> npc_bank.BankModel:
+    """The bank NPC's predictor model of a vehicle (US76, inverse-square gravity)."""
+    return npc_bank.BankModel(vehicle.cl * vehicle.s_ref / vehicle.mass, vehicle.cd * vehicle.s_ref / vehicle.mass)
 
 
 def _geometric(h_geopotential):
