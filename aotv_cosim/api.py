@@ -265,11 +265,14 @@ def build_fmus(sources: PathLike | Iterable[PathLike] = (), *, out: PathLike | N
     return execute(BuildOptions(sources=sources, out=out, fmi_version=fmi_version))
 
 
-def validate(files: PathLike | Iterable[PathLike]) -> list:
+def validate(files: PathLike | Iterable[PathLike], *, benchmark: PathLike | None = None) -> list:
     """Check scenario, wiring, comparison or .ssp files without running them (`aotv-cosim
     validate`): [(file, kind)] when all are sound; InputError (ValidationFailed for several
-    problems of one file) at the first that is not."""
-    return execute(ValidateOptions(files=files))
+    problems of one file) at the first that is not. With `benchmark` (a set: a folder, a scenario
+    or a shipped set's name, e.g. "benchmark_aerocapture/afe") each file is a law's wiring or
+    scenario, also checked against the set's contract (`campaigns.contract`: the plant, the command,
+    the signals the set reads and the values it disperses), every missing piece named in the file."""
+    return execute(ValidateOptions(files=files, benchmark=benchmark))
 
 
 def export_ssp(scenario: PathLike, out: PathLike, *, set: Overrides = None, step: float | None = None,
@@ -408,22 +411,46 @@ def _do_build(options: BuildOptions, progress=None) -> dict:
     return built
 
 
-def _do_validate(options: ValidateOptions, each=None) -> list:
-    """each(file, kind): told each file found sound."""
+def _do_validate(options: ValidateOptions, each=None, contract=None) -> list:
+    """each(file, kind): told each file found sound; contract(needs): told the contract of
+    `options.benchmark` (`campaigns.contract`) when a set is given."""
     from aotv_cosim.fmu.build import built_fmu
     from aotv_cosim.simulation.loading import load_scenario, load_system
     from aotv_cosim.studies.compare import load_comparison
 
     loaders = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
                "compare": load_comparison}
+    needs = None
+    if options.benchmark is not None:
+        from aotv_cosim.campaigns import benchmark
+        from aotv_cosim.campaigns.contract import of_set
+
+        needs = of_set(benchmark.scenarios_of(options.benchmark))
+        if contract is not None:
+            contract(needs)
     found = []
     for f in options.files:
         kind = document_kind(f)
-        loaders[kind](f)
+        loaded = loaders[kind](f)
+        if needs is not None:
+            _check_law(needs, kind, loaded, f, options.benchmark)
         found.append((f, kind))
         if each is not None:
             each(f, kind)
     return found
+
+
+def _check_law(needs, kind, loaded, file, set_name) -> None:
+    """The loaded law `file` (a wiring or scenario) checked against its set's contract `needs`."""
+    from aotv_cosim.campaigns import contract
+
+    if kind == "wiring":
+        contract.check(needs, loaded, file, set_name)
+    elif kind == "scenario":
+        contract.check(needs, loaded.system, file, set_name, entry_prefix=f"system ({Path(loaded.system.path).name}): ")
+    else:
+        raise InputError("a comparison file is no law of a benchmark set", file=file, entry="--benchmark",
+                         fix="give the law's wiring or scenario file")
 
 
 def _do_export(options: ExportOptions, loaded=None) -> Path:

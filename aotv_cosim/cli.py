@@ -290,12 +290,23 @@ def check(paths, out, start, stop):
 
 
 @main.command()
-@click.argument("files", nargs=-1, required=True, type=UserPath(dir_okay=False))
-def validate(files):
+@click.argument("files", nargs=-1, type=UserPath(dir_okay=False))
+@click.option("--benchmark", "benchmark_set", metavar="SET",
+              help="Check each file as a law of the benchmark SET (a folder, or a shipped set's name, e.g. "
+                   "benchmark_aerocapture/afe) against the set's contract; with no FILE, print the contract.")
+def validate(files, benchmark_set):
     """Check scenario, wiring or comparison FILES without running them."""
+    from aotv_cosim.campaigns.contract import markdown
     from aotv_cosim.options import ValidateOptions
 
-    _guard(lambda: _execute(ValidateOptions(files=files), each=lambda f, kind: click.echo(f"ok: {f} ({kind})")))
+    def contract(needs):
+        if not files:
+            click.echo(f"What a law of {benchmark_set} must provide:\n\n{markdown(needs)}", nl=False)
+
+    _guard(lambda: _execute(ValidateOptions(files=files, benchmark=benchmark_set),
+                            each=lambda f, kind: click.echo(f"ok: {f} ({kind}" + (f", a law of {benchmark_set})"
+                                                                                  if benchmark_set else ")")),
+                            contract=contract))
 
 
 @main.command()

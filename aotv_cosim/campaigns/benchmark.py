@@ -33,7 +33,7 @@ from aotv_cosim.options.checks import check_fits, law_name
 from aotv_cosim.output.outdir import claimed, remove_written, written
 from aotv_cosim.output.run_files import write_json_atomically
 from aotv_cosim.simulation import interrupts
-from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.simulation.loading import load_scenario, load_system
 from aotv_cosim.status import Status
 
 LAWS = "laws"
@@ -119,13 +119,18 @@ def _check_alike(loaded) -> None:
                              entry="record", fix="record the same signals and disperse the same values in every law")
 
 
-def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
+def law_scenarios(set_scenarios, law_files, work_dir, set_name="the set") -> dict:
     """{law: (scenario path, loaded Scenario)}: the laws of the set's `scenarios_of` (file names),
     then each of `law_files` flown through the set's dispersions. A law file is a wiring (the
     set's first scenario is flown with its "system" replaced by it: written to
     work_dir/laws/<law>.json; a problem found there is reported naming the law file) or a scenario
-    whose dispersions and columns are the set's. InputError for a clash of names, a name that
-    would alias the output folder's own files (`options.checks.law_name`) or a law that does not fit."""
+    whose dispersions and columns are the set's; either is first checked against the set's contract
+    (`contract`: every missing piece named in the law's own file). InputError for a clash of names,
+    a name that would alias the output folder's own files (`options.checks.law_name`) or a law that
+    does not fit."""
+    from aotv_cosim.campaigns import contract
+
+    needs = contract.of_set(set_scenarios) if law_files else []
     laws = {path.stem: (path, scenario) for path, scenario in set_scenarios}
     set_names = {name.casefold() for name in laws}
     template, reference = set_scenarios[0]
@@ -139,11 +144,14 @@ def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
             raise InputError("file not found", file=law_file, entry="--law",
                              fix="give a wiring or scenario file of your law")
         if _is_wiring(law_file):
+            contract.check(needs, load_system(law_file), law_file, set_name)
             scenario_path = _flown_with(template, law_file, work_dir)
             scenario = _loaded_for(law_file, scenario_path, template)
         else:
             scenario_path = law_file.resolve()
             scenario = load_scenario(scenario_path)
+            contract.check(needs, scenario.system, law_file, set_name,
+                           entry_prefix=f"system ({Path(scenario.system.path).name}): ")
         if [d.__dict__ for d in scenario.dispersions] != [d.__dict__ for d in reference.dispersions]:
             raise InputError(f"its dispersions differ from those of {template.name}", file=law_file,
                              entry="dispersions", fix=f"use the dispersion_set of {template.name}, or give "
@@ -293,7 +301,7 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
     created = not out.exists()
     try:
         with interrupts.deferred(), claimed(out, BENCHMARK_OUTPUTS):
-            flown = law_scenarios(set_scenarios, options.laws, out)  # every law checked before any run
+            flown = law_scenarios(set_scenarios, options.laws, out, str(options.scenario_set))  # checked before any run
             limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
             # every law's rows are kept for the scorecard, beside those of the law being flown
             check_fits(options.runs * (len(flown) + 1), len(columns(set_scenarios[0][1])) + 1, options.scenario_set)

@@ -126,10 +126,15 @@ class ValidateOptions(Options):
     """`aotv-cosim validate`: check scenario, wiring, comparison or .ssp files without running."""
 
     files: tuple = field(metadata=rule(paths("scenario, wiring or comparison files"), "FILES"))
+    benchmark: Path | None = field(default=None, metadata=rule(path("benchmark set", optional=True), "--benchmark"))
+    """A benchmark set (a folder, a scenario or a shipped set's name): each file, a law's wiring or
+    scenario, is also checked against the set's contract (`campaigns.contract`); with no file the
+    contract is what is asked for."""
 
     def _check_together(self):
-        if not self.files:
-            raise checks.InputError("no file given", entry="FILES", fix="give at least one file to validate")
+        if not self.files and self.benchmark is None:
+            raise checks.InputError("no file given", entry="FILES", fix="give at least one file to validate, or "
+                                                                        "--benchmark SET for that set's contract")
 
 
 @dataclass(frozen=True, kw_only=True)
