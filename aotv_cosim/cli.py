@@ -463,9 +463,9 @@ def benchmark(scenario_set, laws, runs, seed, out, refly, workers, scheduler, st
 def sweep(scenario, grids, sets, out, workers, scheduler, step_timeout, max_rss, fmi_calls):
     """Fly SCENARIO at every point of the grids: sweep.csv/.parquet (one row per point: the parameters,
     outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
-    from aotv_cosim.campaigns.units import display
     from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.options import SweepOptions
+    from aotv_cosim.output.display_units import display
 
     def body():
         options = SweepOptions(scenario=scenario, grids=grids, sets=parse_sets(sets, file=scenario),
