@@ -52,7 +52,10 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
            ("outcome.int_abs_u", "int |u| dt", "m/s", (50.0, 99.865)),
            ("outcome.int_u2", "int u^2 dt", "m2/s3", (50.0,)))
 """(row column, label, unit, percentiles) of the scorecard; percentiles over the completed runs
-whose value is finite (an unbound exit orbit has no finite apogee error)."""
+whose value is finite (an unbound exit orbit has no finite apogee error). A per-run figure from
+elsewhere (e.g. the dv of the best pass the same run allowed) joins as a row column by the row's
+"run" (run k of every law flies the same draws), then scores and plots as one more entry here and
+in `benchmark_report.PANELS` (`score`, `score_columns` and `benchmark_report.plots` take them)."""
 
 
 def shipped_sets() -> list:
@@ -260,19 +263,20 @@ def _cpu_seconds():
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
-def score_columns() -> list:
-    """(column, unit) of the scorecard, in order."""
+def score_columns(metrics=METRICS) -> list:
+    """(column, unit) of the scorecard of `metrics` (`METRICS`), in order."""
     cols = [("law", ""), ("runs", "1"), ("capture_rate", "%")] + [(o, "1") for o in OUTCOMES]
-    for column, _, unit, percents in METRICS:
+    for column, _, unit, percents in metrics:
         cols += [(f"{column.split('.', 1)[1]}_p{p:g}", unit) for p in percents]
     return cols + [("cpu_per_run", "s")]
 
 
-def score(law, rows, cpu_per_run) -> dict:
-    """The scorecard row of one law's campaign rows (None: a figure the runs do not give)."""
+def score(law, rows, cpu_per_run, metrics=METRICS) -> dict:
+    """The scorecard row of one law's campaign rows over `metrics` (`METRICS`; None: a figure the
+    runs do not give)."""
     counts = {o: sum(r["outcome"] == o for r in rows) for o in OUTCOMES}
     card = {"law": law, "runs": len(rows), "capture_rate": 100.0 * counts["captured"] / len(rows), **counts}
-    for column, _, _, percents in METRICS:
+    for column, _, _, percents in metrics:
         x = completed_values(rows, column)
         for p in percents:
             card[f"{column.split('.', 1)[1]}_p{p:g}"] = float(np.percentile(x, p)) if len(x) else None

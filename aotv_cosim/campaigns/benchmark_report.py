@@ -61,9 +61,9 @@ def markdown(result, cards, units) -> str:
     return "\n".join(out) + "\n"
 
 
-def plots(out_dir, rows_by_law, band=None) -> list:
+def plots(out_dir, rows_by_law, band=None, panels=PANELS) -> list:
     """benchmark.png: the outcome classes of each law (stacked bars, the campaign plots' colours),
-    then one panel per PANELS metric, the laws side by side as box plots (median, quartiles,
+    then one panel per metric of `panels` (`PANELS`), the laws side by side as box plots (median, quartiles,
     whiskers at the 0.135 / 99.865 percentiles, runs beyond them as points) over the completed runs
     with a finite value, in display units (km, W/cm2, kJ/cm2, g); the apogee error on a
     symmetric-log axis (linear within +-1 km) with the capture band (+-band m) shaded; every other
@@ -79,9 +79,10 @@ def plots(out_dir, rows_by_law, band=None) -> list:
 
     laws = list(rows_by_law)
     ticks = [f"{law}\n{_capture_rate(rows_by_law[law]):.0f} % capt." for law in laws]
-    fig, axes = plt.subplots(2, 4, figsize=(max(16.0, 4 * (1.2 + 0.5 * len(laws))), 8))
+    ncols = max(4, -(-(len(panels) + 2) // 2))  # the outcomes, the panels and the legend, in two rows
+    fig, axes = plt.subplots(2, ncols, figsize=(max(4.0 * ncols, 4 * (1.2 + 0.5 * len(laws))), 8))
     _outcome_panel(axes.flat[0], rows_by_law, laws)
-    for ax, (column, name, unit) in zip(list(axes.flat)[1:], PANELS):
+    for ax, (column, name, unit) in zip(list(axes.flat)[1:], panels):
         shown, factor = display(column, unit)
         data = [completed_values(rows_by_law[law], column) * factor for law in laws]
         if not any(len(x) for x in data):
@@ -103,7 +104,7 @@ def plots(out_dir, rows_by_law, band=None) -> list:
         ax.set_xticks(range(1, len(laws) + 1), ticks, fontsize=7, rotation=30, ha="right")
         ax.set_ylabel(f"{name} [{shown}]", fontsize=8)
         ax.tick_params(axis="y", labelsize=8)
-    for ax in list(axes.flat)[len(PANELS) + 1:]:
+    for ax in list(axes.flat)[len(panels) + 1:]:
         ax.axis("off")
     handles, labels = axes.flat[0].get_legend_handles_labels()
     axes.flat[-1].legend(handles, labels, title="outcome (first panel)", loc="center", fontsize=9)
