@@ -237,7 +237,7 @@ def write_scenarios(scenario, plant: Plant, cases, lift_to_drag, step, out, sets
             how = f"at L/D = {x * lift_to_drag:g}"
         system["description"] = f"{wiring_path} with its guidance ({', '.join(plant.removed)}) taken out, flown {how}"
         (out / f"{case}_wiring.json").write_text(json.dumps(system, indent=2) + "\n")
-        flown = _flown(doc, gone, plant, scenario, step)
+        flown = _flown(doc, gone, scenario, step)
         flown["parameters"].update(sets or {})
         flown.update(system=f"{case}_wiring.json", description=f"{path} flown {how} (corridor)")
         (out / f"{case}.json").write_text(json.dumps(flown, indent=2) + "\n")
@@ -259,7 +259,7 @@ def check_flyable(scenario, plant: Plant, sets=None) -> None:
                              file=scenario.path, entry="stop_conditions", fix="stop the run on a vehicle signal")
 
 
-def _flown(doc, gone, plant, scenario, step) -> dict:
+def _flown(doc, gone, scenario, step) -> dict:
     """The scenario document without what names the removed components, its dispersions,
     expectations and plots, at a fixed step of `step` s."""
     flown = {k: v for k, v in doc.items() if k not in ("$schema", "dispersions", "dispersion_set", "expect",
@@ -271,10 +271,8 @@ def _flown(doc, gone, plant, scenario, step) -> dict:
     campaign["scatter"] = [s for s in campaign.get("scatter", []) if s.split(".")[0] not in gone]
     for key in ("columns", "versus"):
         campaign.pop(key, None)  # the corridor draws its own plot
-    outcome = dict(campaign["outcome"])
-    if outcome.get("actuator") in gone:
-        outcome["actuator"] = plant.command.split(".")[0]
-    campaign["outcome"] = outcome
+    campaign["outcome"] = {k: v for k, v in campaign["outcome"].items()
+                           if not (k == "actuator" and v in gone)}  # its saturation time left the pass
     flown["montecarlo"] = campaign
     return flown
 
