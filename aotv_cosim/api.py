@@ -211,30 +211,41 @@ def sweep(scenario: PathLike, grids: Mapping[str, Iterable[float]] | Iterable[st
                                 out=out, step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
 
 
-def corridor(scenario: PathLike, *, lift_to_drag: float, tolerance: float = 100.0,
-             bracket: Sequence[float] = (-0.08, -0.002), out: PathLike | None = None, workers: int | None = None,
-             scheduler=None, step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
+def corridor(scenario: PathLike, *, lift_to_drag: float | None = None, aim: str = "target",
+             angle_tolerance: float = 1e-6, tolerance: float | None = None, step: float | None = None,
+             bracket: Sequence[float] | None = None, set: Overrides = None, out: PathLike | None = None,
+             workers: int | None = None, scheduler=None, step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
              fmi_calls: str | None = None) -> dict:
     """The theoretical entry corridor of a scenario whose runs are classified (`aotv-cosim corridor`).
 
     Parameters:
         scenario: a scenario file that declares an outcome.
-        lift_to_drag: the L/D flown at full lift up and full lift down (finite, > 0).
-        tolerance: the bisection stops when a run's apogee error is within this many m of the
-            capture band's edge (finite, > 0).
-        bracket: the entry flight-path angles searched (steep, shallow), rad, both in (-pi/2, 0).
+        lift_to_drag: the L/D flown at full lift up and down by a vehicle steered by its lift
+            acceleration (required there, finite, > 0); leave it out for a bank-angle vehicle,
+            which flies its own C_L/C_D at sigma = 0 and 180 deg.
+        aim: "target" (both bounds exit on the target apogee) or "band" (on the capture band's
+            lower and upper edges).
+        angle_tolerance: a bisection ends when its gamma0 bracket is this narrow, rad.
+        tolerance: a bisection also ends when a run lands this close to the aim, m (None: never).
+        step: the communication step of the passes, s (None: the scenario's, at most 0.1 s).
+        bracket: the entry flight-path angles searched (steep, shallow), rad, both in (-pi/2, 0)
+            (None: each bound searched outward from the scenario's entry).
+        set: overrides of the passes' parameters (`Overrides`), e.g. {"atmosphere.profile_sigma": 0}
+            for the aerocapture sets' atmosphere without its random profile.
         out: a folder for corridor.json, corridor.png and the two scenarios flown, or None.
         workers: local processes (default one per usable core; 2 search both bounds side by
             side, more are not used); scheduler, step_timeout, max_rss, fmi_calls: as for `montecarlo`.
 
     Returns:
-        a dict: the entry flight-path angles (rad) bounding capture at full lift up ("steep")
-        and full lift down ("shallow"), "width_rad", "width_deg", and each bisection's runs
-        ("points": (gamma0, apogee error)). See `aotv_cosim.campaigns.corridor`.
+        a dict: the entry flight-path angles (rad) of the "steep" (full lift up) and "shallow"
+        (full lift down) bounds, "width_rad", "width_deg", the plant read from the wiring
+        ("plant", "control", "removed", "lift_to_drag") and each bisection's runs ("points":
+        (gamma0, apogee error)). See `aotv_cosim.campaigns.corridor`.
     """
-    return execute(CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, tolerance=tolerance,
-                                   bracket=bracket, out=out, workers=workers, scheduler=scheduler,
-                                   step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
+    return execute(CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
+                                   angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
+                                   sets=set, out=out, workers=workers, scheduler=scheduler, step_timeout=step_timeout,
+                                   max_rss=max_rss, fmi_calls=fmi_calls))
 
 
 def describe(target):
@@ -254,11 +265,14 @@ def build_fmus(sources: PathLike | Iterable[PathLike] = (), *, out: PathLike | N
     return execute(BuildOptions(sources=sources, out=out, fmi_version=fmi_version))
 
 
-def validate(files: PathLike | Iterable[PathLike]) -> list:
+def validate(files: PathLike | Iterable[PathLike], *, benchmark: PathLike | None = None) -> list:
     """Check scenario, wiring, comparison or .ssp files without running them (`aotv-cosim
     validate`): [(file, kind)] when all are sound; InputError (ValidationFailed for several
-    problems of one file) at the first that is not."""
-    return execute(ValidateOptions(files=files))
+    problems of one file) at the first that is not. With `benchmark` (a set: a folder, a scenario
+    or a shipped set's name, e.g. "benchmark_aerocapture/afe") each file is a law's wiring or
+    scenario, also checked against the set's contract (`campaigns.contract`: the plant, the command,
+    the signals the set reads and the values it disperses), every missing piece named in the file."""
+    return execute(ValidateOptions(files=files, benchmark=benchmark))
 
 
 def export_ssp(scenario: PathLike, out: PathLike, *, set: Overrides = None, step: float | None = None,
@@ -397,22 +411,46 @@ def _do_build(options: BuildOptions, progress=None) -> dict:
     return built
 
 
-def _do_validate(options: ValidateOptions, each=None) -> list:
-    """each(file, kind): told each file found sound."""
+def _do_validate(options: ValidateOptions, each=None, contract=None) -> list:
+    """each(file, kind): told each file found sound; contract(needs): told the contract of
+    `options.benchmark` (`campaigns.contract`) when a set is given."""
     from aotv_cosim.fmu.build import built_fmu
     from aotv_cosim.simulation.loading import load_scenario, load_system
     from aotv_cosim.studies.compare import load_comparison
 
     loaders = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
                "compare": load_comparison}
+    needs = None
+    if options.benchmark is not None:
+        from aotv_cosim.campaigns import benchmark
+        from aotv_cosim.campaigns.contract import of_set
+
+        needs = of_set(benchmark.scenarios_of(options.benchmark))
+        if contract is not None:
+            contract(needs)
     found = []
     for f in options.files:
         kind = document_kind(f)
-        loaders[kind](f)
+        loaded = loaders[kind](f)
+        if needs is not None:
+            _check_law(needs, kind, loaded, f, options.benchmark)
         found.append((f, kind))
         if each is not None:
             each(f, kind)
     return found
+
+
+def _check_law(needs, kind, loaded, file, set_name) -> None:
+    """The loaded law `file` (a wiring or scenario) checked against its set's contract `needs`."""
+    from aotv_cosim.campaigns import contract
+
+    if kind == "wiring":
+        contract.check(needs, loaded, file, set_name)
+    elif kind == "scenario":
+        contract.check(needs, loaded.system, file, set_name, entry_prefix=f"system ({Path(loaded.system.path).name}): ")
+    else:
+        raise InputError("a comparison file is no law of a benchmark set", file=file, entry="--benchmark",
+                         fix="give the law's wiring or scenario file")
 
 
 def _do_export(options: ExportOptions, loaded=None) -> Path:

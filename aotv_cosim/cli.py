@@ -290,12 +290,23 @@ def check(paths, out, start, stop):
 
 
 @main.command()
-@click.argument("files", nargs=-1, required=True, type=UserPath(dir_okay=False))
-def validate(files):
+@click.argument("files", nargs=-1, type=UserPath(dir_okay=False))
+@click.option("--benchmark", "benchmark_set", metavar="SET",
+              help="Check each file as a law of the benchmark SET (a folder, or a shipped set's name, e.g. "
+                   "benchmark_aerocapture/afe) against the set's contract; with no FILE, print the contract.")
+def validate(files, benchmark_set):
     """Check scenario, wiring or comparison FILES without running them."""
+    from aotv_cosim.campaigns.contract import markdown
     from aotv_cosim.options import ValidateOptions
 
-    _guard(lambda: _execute(ValidateOptions(files=files), each=lambda f, kind: click.echo(f"ok: {f} ({kind})")))
+    def contract(needs):
+        if not files:
+            click.echo(f"What a law of {benchmark_set} must provide:\n\n{markdown(needs)}", nl=False)
+
+    _guard(lambda: _execute(ValidateOptions(files=files, benchmark=benchmark_set),
+                            each=lambda f, kind: click.echo(f"ok: {f} ({kind}" + (f", a law of {benchmark_set})"
+                                                                                  if benchmark_set else ")")),
+                            contract=contract))
 
 
 @main.command()
@@ -452,9 +463,9 @@ def benchmark(scenario_set, laws, runs, seed, out, refly, workers, scheduler, st
 def sweep(scenario, grids, sets, out, workers, scheduler, step_timeout, max_rss, fmi_calls):
     """Fly SCENARIO at every point of the grids: sweep.csv/.parquet (one row per point: the parameters,
     outcome, exit state and extrema, units in the header), sweep.json and sweep.png."""
-    from aotv_cosim.campaigns.units import display
     from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.options import SweepOptions
+    from aotv_cosim.output.display_units import display
 
     def body():
         options = SweepOptions(scenario=scenario, grids=grids, sets=parse_sets(sets, file=scenario),
@@ -480,25 +491,36 @@ def sweep(scenario, grids, sets, out, workers, scheduler, step_timeout, max_rss,
 
 @main.command()
 @click.argument("scenario", type=UserPath(dir_okay=False))
-@click.option("--lift-to-drag", type=float, required=True, metavar="L/D",
-              help="Lift-to-drag ratio flown at full lift up and down (the vehicle's capability).")
-@click.option("--tolerance", type=float, default=100.0, show_default=True,
-              help="Bisection stops when a run's apogee error is this close to the band edge (m).")
-@click.option("--bracket", type=(float, float), default=(-0.08, -0.002), show_default=True,
-              metavar="STEEP SHALLOW", help="Entry flight-path angles searched (rad).")
+@click.option("--lift-to-drag", type=float, metavar="L/D",
+              help="L/D flown at full lift up and down by a vehicle steered by its lift acceleration (required "
+                   "there); a bank-angle vehicle flies its own C_L/C_D.")
+@click.option("--aim", type=click.Choice(["target", "band"]), default="target", show_default=True,
+              help="Bounds exit on the target apogee, or on the capture band's edges.")
+@click.option("--angle-tolerance", type=float, default=1e-6, show_default=True,
+              help="A bisection ends when its gamma0 bracket is this narrow (rad).")
+@click.option("--tolerance", type=float, help="A bisection also ends when a run lands this close to the aim (m).")
+@click.option("--step", type=float, help="Communication step of the passes (s) [the scenario's, at most 0.1].")
+@click.option("--bracket", type=(float, float), default=None, metavar="STEEP SHALLOW",
+              help="Entry flight-path angles searched (rad) [outward from the scenario's entry].")
+@click.option("--set", "sets", multiple=True, metavar="COMP.VAR=VALUE",
+              help="Override a value of the passes flown (repeatable).")
 @click.option("--out", type=UserPath(file_okay=False), help="Output folder [results/<scenario>-corridor].")
 @_runs_options
-def corridor(scenario, lift_to_drag, tolerance, bracket, out, workers, scheduler, step_timeout, max_rss, fmi_calls):
+def corridor(scenario, lift_to_drag, aim, angle_tolerance, tolerance, step, bracket, sets, out, workers, scheduler,
+             step_timeout, max_rss, fmi_calls):
     """The theoretical entry corridor of SCENARIO: the entry flight-path angles bounding capture at
-    full lift up (steep bound) and full lift down (shallow bound), by bisection on the capture
-    band; corridor.json, corridor.png. With --workers 2 both bounds are searched side by side."""
+    full lift up (steep bound) and full lift down (shallow bound), by bisection; the plant (bank
+    angle or lift acceleration) is read from the wiring; corridor.json, corridor.png. With
+    --workers 2 both bounds are searched side by side."""
     import math
 
+    from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.options import CorridorOptions
 
     def body():
-        options = CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, tolerance=tolerance, bracket=bracket,
-                                  out=_default_out(out, scenario, "-corridor"), workers=workers, scheduler=scheduler,
+        options = CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
+                                  angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
+                                  sets=parse_sets(sets, file=scenario), out=_default_out(out, scenario, "-corridor"), workers=workers, scheduler=scheduler,
                                   step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls)
         try:
             r = _execute(options)
@@ -506,11 +528,20 @@ def corridor(scenario, lift_to_drag, tolerance, bracket, out, workers, scheduler
             click.echo(f"  interrupted by {interrupts.name()}: no corridor.json written (the two scenarios flown are "
                        f"in {options.out})", err=True)
             sys.exit(_exit_status(Status.INTERRUPTED))
+        flown = f"L/D {r['lift_to_drag']:.4g}" if r["lift_to_drag"] is not None else "its own lift"
+        click.echo(f"{'bank-angle' if r['plant'] == 'bank' else 'lift-acceleration'} vehicle ({r['control']}), "
+                   f"{flown}; {', '.join(r['removed'])} taken out; {r['step_s']:g} s steps")
+        if r["undispersed"]:
+            click.echo("dispersed in the scenario, flown at: " + ", ".join(f"{k} = {v:g}"
+                                                                          for k, v in r["undispersed"].items()))
         for bound, how in (("steep", "full lift up"), ("shallow", "full lift down")):
             b = r[bound]
-            click.echo(f"{bound} bound ({how}, L/D {lift_to_drag:g}): gamma0 = {b['gamma0']:.6g} rad "
-                       f"({math.degrees(b['gamma0']):.4f} deg), apogee error {b['apogee_error'] / 1e3:+.4f} km "
-                       f"(edge {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
+            click.echo(f"{bound} bound ({how}): gamma0 = {b['gamma0']:.7g} rad ({math.degrees(b['gamma0']):.5f} deg), "
+                       f"apogee error {b['apogee_error'] / 1e3:+.4f} km (aim {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
+            low, high = (float(e) for e in b["bracket_errors"] or (b["apogee_error"],) * 2)
+            if min(abs(low - b["edge"]), abs(high - b["edge"])) > r["band_m"]:
+                click.echo(f"  a sharp edge: the apogee error goes from {low / 1e3:+.6g} to {high / 1e3:+.6g} km "
+                           f"between {math.degrees(b['bracket'][0]):.6f} and {math.degrees(b['bracket'][1]):.6f} deg")
         click.echo(f"corridor width {r['width_rad']:.6g} rad ({r['width_deg']:.4f} deg); nominal gamma0 "
                    f"{r['nominal_gamma0']:g} rad; corridor.json and corridor.png in {options.out}")
 

@@ -128,8 +128,8 @@ def check_whole_rows(out: Path) -> list:
 @dataclass(frozen=True)
 class Panel:
     """What one drawn Axes of a figure shows: its texts, its line labels (matplotlib's `_childN`
-    for unlabelled ones), the entries of its legend and how many collections (scatter points) and
-    patches (histogram bars, shaded bands) it holds."""
+    for unlabelled ones), the entries of its legend, how many collections (scatter points) and
+    patches (histogram bars, shaded bands) it holds, its axis scales and y limits."""
 
     title: str
     xlabel: str
@@ -138,6 +138,9 @@ class Panel:
     legend: tuple
     collections: int
     patches: int
+    xscale: str = "linear"
+    yscale: str = "linear"
+    ylim: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -154,6 +157,6 @@ def drawing(fig) -> Drawing:
     panels = tuple(Panel(ax.get_title(), ax.get_xlabel(), ax.get_ylabel(),
                          tuple(line.get_label() for line in ax.get_lines()),
                          tuple(text.get_text() for text in ax.get_legend().get_texts()) if ax.get_legend() else (),
-                         len(ax.collections), len(ax.patches))
+                         len(ax.collections), len(ax.patches), ax.get_xscale(), ax.get_yscale(), ax.get_ylim())
                    for ax in fig.axes if ax.axison)
     return Drawing(fig.get_suptitle(), panels)

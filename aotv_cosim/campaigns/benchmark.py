@@ -33,7 +33,7 @@ from aotv_cosim.options.checks import check_fits, law_name
 from aotv_cosim.output.outdir import claimed, remove_written, written
 from aotv_cosim.output.run_files import write_json_atomically
 from aotv_cosim.simulation import interrupts
-from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.simulation.loading import load_scenario, load_system
 from aotv_cosim.status import Status
 
 LAWS = "laws"
@@ -55,7 +55,11 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
            ("outcome.int_u2", "int u^2 dt", "m2/s3", (50.0,)))
 """(row column, label, unit, percentiles) of the scorecard; percentiles over the completed runs
 whose value is finite (an unbound exit orbit has no finite apogee error). The heating is shown
-convective (Sutton-Graves: peak_heat_rate, heat_load) and total (plus Tauber-Sutton radiative)."""
+convective (Sutton-Graves: peak_heat_rate, heat_load) and total (plus Tauber-Sutton radiative).
+A per-run figure from elsewhere (e.g. the dv of the best pass the same run allowed) joins as a
+row column by the row's "run" (run k of every law flies the same draws), then scores and plots as
+one more entry here and in `benchmark_report.PANELS` (`score`, `score_columns` and
+`benchmark_report.plots` take them)."""
 
 
 def shipped_sets() -> list:
@@ -122,13 +126,18 @@ def _check_alike(loaded) -> None:
                              entry="record", fix="record the same signals and disperse the same values in every law")
 
 
-def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
+def law_scenarios(set_scenarios, law_files, work_dir, set_name="the set") -> dict:
     """{law: (scenario path, loaded Scenario)}: the laws of the set's `scenarios_of` (file names),
     then each of `law_files` flown through the set's dispersions. A law file is a wiring (the
     set's first scenario is flown with its "system" replaced by it: written to
     work_dir/laws/<law>.json; a problem found there is reported naming the law file) or a scenario
-    whose dispersions and columns are the set's. InputError for a clash of names, a name that
-    would alias the output folder's own files (`options.checks.law_name`) or a law that does not fit."""
+    whose dispersions and columns are the set's; either is first checked against the set's contract
+    (`contract`: every missing piece named in the law's own file). InputError for a clash of names,
+    a name that would alias the output folder's own files (`options.checks.law_name`) or a law that
+    does not fit."""
+    from aotv_cosim.campaigns import contract
+
+    needs = contract.of_set(set_scenarios) if law_files else []
     laws = {path.stem: (path, scenario) for path, scenario in set_scenarios}
     set_names = {name.casefold() for name in laws}
     template, reference = set_scenarios[0]
@@ -142,11 +151,14 @@ def law_scenarios(set_scenarios, law_files, work_dir) -> dict:
             raise InputError("file not found", file=law_file, entry="--law",
                              fix="give a wiring or scenario file of your law")
         if _is_wiring(law_file):
+            contract.check(needs, load_system(law_file), law_file, set_name)
             scenario_path = _flown_with(template, law_file, work_dir)
             scenario = _loaded_for(law_file, scenario_path, template)
         else:
             scenario_path = law_file.resolve()
             scenario = load_scenario(scenario_path)
+            contract.check(needs, scenario.system, law_file, set_name,
+                           entry_prefix=f"system ({Path(scenario.system.path).name}): ")
         if [d.__dict__ for d in scenario.dispersions] != [d.__dict__ for d in reference.dispersions]:
             raise InputError(f"its dispersions differ from those of {template.name}", file=law_file,
                              entry="dispersions", fix=f"use the dispersion_set of {template.name}, or give "
@@ -255,19 +267,20 @@ def _cpu_seconds():
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
-def score_columns() -> list:
-    """(column, unit) of the scorecard, in order."""
+def score_columns(metrics=METRICS) -> list:
+    """(column, unit) of the scorecard of `metrics` (`METRICS`), in order."""
     cols = [("law", ""), ("runs", "1"), ("capture_rate", "%")] + [(o, "1") for o in OUTCOMES]
-    for column, _, unit, percents in METRICS:
+    for column, _, unit, percents in metrics:
         cols += [(f"{column.split('.', 1)[1]}_p{p:g}", unit) for p in percents]
     return cols + [("cpu_per_run", "s")]
 
 
-def score(law, rows, cpu_per_run) -> dict:
-    """The scorecard row of one law's campaign rows (None: a figure the runs do not give)."""
+def score(law, rows, cpu_per_run, metrics=METRICS) -> dict:
+    """The scorecard row of one law's campaign rows over `metrics` (`METRICS`; None: a figure the
+    runs do not give)."""
     counts = {o: sum(r["outcome"] == o for r in rows) for o in OUTCOMES}
     card = {"law": law, "runs": len(rows), "capture_rate": 100.0 * counts["captured"] / len(rows), **counts}
-    for column, _, _, percents in METRICS:
+    for column, _, _, percents in metrics:
         x = completed_values(rows, column)
         for p in percents:
             card[f"{column.split('.', 1)[1]}_p{p:g}"] = float(np.percentile(x, p)) if len(x) else None
@@ -296,7 +309,7 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
     created = not out.exists()
     try:
         with interrupts.deferred(), claimed(out, BENCHMARK_OUTPUTS):
-            flown = law_scenarios(set_scenarios, options.laws, out)  # every law checked before any run
+            flown = law_scenarios(set_scenarios, options.laws, out, str(options.scenario_set))  # checked before any run
             limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
             # every law's rows are kept for the scorecard, beside those of the law being flown
             check_fits(options.runs * (len(flown) + 1), len(columns(set_scenarios[0][1])) + 1, options.scenario_set)

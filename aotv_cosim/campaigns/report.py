@@ -53,7 +53,7 @@ def console_table(table: dict, units: dict, outcomes: dict = None) -> str:
     """Plain-text statistics table (one line per column, unit beside the name) and the
     outcome counts, as printed after a campaign: in display units (km, km/s, W/cm2, kJ/cm2, g;
     `units.display`), while summary.json and report.md keep SI."""
-    from aotv_cosim.campaigns.units import display
+    from aotv_cosim.output.display_units import display
 
     heads = ("column", "unit") + FIELDS
     lines = []

@@ -1,5 +1,5 @@
-"""The unit of every campaign column (rows.csv, rows.parquet, summary.json statistics), and the
-display units plots and console tables show them in."""
+"""The unit of every campaign column (rows.csv, rows.parquet, summary.json statistics); the display
+units plots and console tables show them in are `output.display_units`'s."""
 
 from aotv_cosim.mission.outcome_rows import UNITS as OUTCOME_UNITS
 from aotv_cosim.output.series import TIME_UNIT
@@ -22,19 +22,3 @@ def column_units(scenario, names) -> dict:
         else:
             units[name] = scenario.system.variable(name.split(".", 1)[1]).unit
     return units
-
-
-DISPLAY = {"m": ("km", 1e-3), "W/m2": ("W/cm2", 1e-4), "J/m2": ("kJ/cm2", 1e-7)}
-"""Display unit and factor (display value = SI value * factor) of the SI units engineers read
-otherwise: altitudes and apogees in km, heat rates in W/cm2, heat loads in kJ/cm2. Speeds of the
-vehicle (columns ending in .v) are shown in km/s; correction dv stays in m/s; the load factor is
-already in g. Files keep SI."""
-
-
-def display(name, unit) -> tuple:
-    """(display unit, factor) of a column in `unit` (SI): `DISPLAY`, km/s for a speed."""
-    if unit == "m/s" and name.endswith(".v"):
-        return "km/s", 1e-3
-    if unit == "1" and "load_factor" in name and not name.startswith("over_"):  # over_*: a count of runs
-        return "g", 1.0
-    return DISPLAY.get(unit, (unit, 1.0))

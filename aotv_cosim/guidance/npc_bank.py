@@ -99,6 +99,13 @@ class BankModel:
     gravity_model: int = point_mass.GRAVITY_INVERSE_SQUARE
     g0: float = 9.80665
 
+    @classmethod
+    def of(cls, vehicle, **planet) -> "BankModel":
+        """The model of a vehicle at trim (C_L `cl`, C_D `cd`, reference area `s_ref` m^2, `mass`
+        kg: a `physics.aerocapture_vehicles.TrimVehicle`), US76 and inverse-square gravity unless
+        `planet` says otherwise."""
+        return cls(vehicle.cl * vehicle.s_ref / vehicle.mass, vehicle.cd * vehicle.s_ref / vehicle.mass, **planet)
+
     def density(self, h: float, scale) -> float:
         """Model density k * rho(h), kg/m^3, with k the density scale: a number, or a
         `ScaleProfile` evaluated at h."""

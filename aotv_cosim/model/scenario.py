@@ -316,10 +316,28 @@ def _check_signals(s: Scenario, doc):
         if missing:
             problems.append(InputError(f"classifying runs needs {', '.join(missing)} recorded", file=s.path,
                                        entry="montecarlo.outcome", fix=f"add {', '.join(missing)} to record"))
+        problems += _check_outcome_actuator(s, doc, outputs)
     for k, p in enumerate(s.plots):
         for signal in p["signals"] + ([p["x"]] if p.get("x", "time") != "time" else []):
             check(signal, f"plots[{k}]", NUMERIC, "a plot")
     raise_if_any(problems)
+
+
+def _check_outcome_actuator(s: Scenario, doc, outputs) -> list:
+    """An outcome `actuator` the scenario names must report what it is named for: its
+    saturation_time output, recorded (the default, "actuator", may have none: the column is then
+    nan)."""
+    if "actuator" not in doc.get("montecarlo", {}).get("outcome", {}):
+        return []
+    signal = f"{s.outcome.actuator}.saturation_time"
+    if signal not in outputs:
+        return [InputError(f"{s.outcome.actuator} has no output saturation_time, which the outcome reports as the "
+                           "actuator's saturation time", file=s.path, entry="montecarlo.outcome.actuator",
+                           fix="name the component that outputs saturation_time (s), or leave actuator out")]
+    if signal not in s.record:
+        return [InputError(f"{signal} is not recorded: the outcome's saturation time would be nan", file=s.path,
+                           entry="montecarlo.outcome.actuator", fix=f"add {signal} to record")]
+    return []
 
 
 def _a(word: str) -> str:

@@ -31,6 +31,7 @@ from aotv_cosim.options.checks import (
 )
 from aotv_cosim.simulation.master import FMI_CALLS
 from aotv_cosim.simulation.watchdog import CAMPAIGN_STEP_TIMEOUT
+from aotv_cosim.studies.corridor import AIMS
 
 DEFAULT_MAX_RSS_MIB = 2048.0
 """Resident memory a local campaign worker may use, MiB (a worker running the shipped laws holds
@@ -54,6 +55,11 @@ def _described(value, where):
     if isinstance(value, (Scenario, System)):
         return value
     return str(path("FMU name, .fmu, .py source, wiring or scenario file")(value, where))
+
+
+def _bracket(value, where):
+    """The corridor's bracket (`checks.bracket`), or None."""
+    return None if value is None else bracket(value, where)
 
 
 class _Scenario(Options):
@@ -120,10 +126,15 @@ class ValidateOptions(Options):
     """`aotv-cosim validate`: check scenario, wiring, comparison or .ssp files without running."""
 
     files: tuple = field(metadata=rule(paths("scenario, wiring or comparison files"), "FILES"))
+    benchmark: Path | None = field(default=None, metadata=rule(path("benchmark set", optional=True), "--benchmark"))
+    """A benchmark set (a folder, a scenario or a shipped set's name): each file, a law's wiring or
+    scenario, is also checked against the set's contract (`campaigns.contract`); with no file the
+    contract is what is asked for."""
 
     def _check_together(self):
-        if not self.files:
-            raise checks.InputError("no file given", entry="FILES", fix="give at least one file to validate")
+        if not self.files and self.benchmark is None:
+            raise checks.InputError("no file given", entry="FILES", fix="give at least one file to validate, or "
+                                                                        "--benchmark SET for that set's contract")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -329,18 +340,38 @@ class SweepOptions(RunsOptions):
 @dataclass(frozen=True, kw_only=True)
 class CorridorOptions(RunsOptions):
     """`aotv-cosim corridor` / `aotv_cosim.corridor`: the entry corridor by bisection at full lift up
-    and down."""
+    and down (`studies.corridor`)."""
 
     scenario: Path = field(metadata=rule(path("scenario file"), "SCENARIO"))
-    lift_to_drag: float = field(metadata=rule(number(low=0.0, low_open=True, what="L/D"), "--lift-to-drag"))
-    """L/D flown at full lift up and full lift down (finite, > 0)."""
-    tolerance: float = field(default=100.0, metadata=rule(number(low=0.0, low_open=True, unit="m", what="the tolerance"), "--tolerance"))
-    """The bisection stops when a run's apogee error is this close to the band edge, m (finite, > 0)."""
-    bracket: tuple = field(default=(-0.08, -0.002), metadata=rule(bracket, "--bracket"))
-    """(steep, shallow) entry flight-path angles searched, rad, -pi/2 < steep < shallow < 0."""
+    lift_to_drag: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True,
+                                                                          what="L/D"), "--lift-to-drag"))
+    """L/D flown at full lift up and down by a vehicle steered by its lift acceleration (finite,
+    > 0; required there); None for a bank-angle vehicle, which flies its own C_L/C_D."""
+    aim: str = field(default="target", metadata=rule(choice(*AIMS), "--aim"))
+    """"target": both bounds exit on the target apogee (the theoretical corridor); "band": the
+    steep bound on the capture band's lower edge, the shallow on its upper edge."""
+    angle_tolerance: float = field(default=1e-6, metadata=rule(number(low=0.0, low_open=True, high=0.01, unit="rad",
+                                                                      what="the angle tolerance"), "--angle-tolerance"))
+    """A bisection ends when its gamma0 bracket is this narrow, rad (finite, in (0, 0.01])."""
+    tolerance: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="m",
+                                                                       what="the tolerance"), "--tolerance"))
+    """A bisection also ends when a run's apogee error is this close to the aim, m (None: only
+    the angle tolerance ends it; finite, > 0)."""
+    step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
+                                                                  what="the step"), "--step"))
+    """Communication step of the passes flown, s (None: the scenario's, at most 0.1 s)."""
+    bracket: tuple | None = field(default=None, metadata=rule(_bracket, "--bracket"))
+    """(steep, shallow) entry flight-path angles searched, rad, -pi/2 < steep < shallow < 0 (None:
+    each bound searched outward from the scenario's entry)."""
+    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    """As for `RunOptions.sets`, applied to the passes flown (not to the guidance taken out)."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for corridor.json, corridor.png and the two scenarios flown; None: nothing kept."""
     workers: int | None = field(default=None, metadata=rule(workers, "--workers"))
     """Local worker processes (None: one per usable core): the two bounds are searched side by side
     with 2; more are not used."""
+
+    @property
+    def overrides(self) -> dict:
+        return dict(self.sets)
 

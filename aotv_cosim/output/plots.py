@@ -1,8 +1,12 @@
-"""PNG plots of a run: an overview of every recorded signal and the scenario's own plots."""
+"""PNG plots of a run: an overview of every recorded signal and the scenario's own plots, drawn in
+display units (km, deg, km/s, g, W/cm2, kJ/cm2: `display_units`) whose labels say the unit shown,
+while timeseries.csv, timeseries.parquet and summary.json keep SI."""
 
 import math
 
 import matplotlib
+
+from aotv_cosim.output.display_units import display
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -11,9 +15,13 @@ PANELS = 12
 """Panels per overview page."""
 
 
-def _unit(system, signal):
-    unit = system.variable(signal).unit
-    return f" [{unit}]" if unit else ""
+def _shown(system, signal) -> tuple:
+    """(label suffix ' [unit]' in the unit drawn, factor from SI) of a recorded signal: a Real one
+    in its display unit, an Integer, Boolean or Enumeration one as it is."""
+    variable = system.variable(signal)
+    unit = variable.unit or ""
+    shown, factor = display(signal, unit) if variable.type == "Real" else (unit, 1.0)
+    return (f" [{shown}]" if shown else ""), factor
 
 
 def overview(out_dir, system, columns, times, rows, title):
@@ -27,9 +35,10 @@ def overview(out_dir, system, columns, times, rows, title):
         nrows = math.ceil(len(names) / ncols)
         fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 2.6 * nrows), squeeze=False)
         for ax, name in zip(axes.flat, names):
-            ax.plot(times, rows[:, columns.index(name)], lw=1.2,
+            unit, factor = _shown(system, name)
+            ax.plot(times, rows[:, columns.index(name)] * factor, lw=1.2,
                     drawstyle="default" if system.variable(name).type == "Real" else "steps-post")
-            ax.set_title(name + _unit(system, name), fontsize=9)
+            ax.set_title(name + unit, fontsize=9)
             ax.set_xlabel("time [s]", fontsize=8)
             ax.tick_params(labelsize=7)
             ax.grid(alpha=0.3)
@@ -47,11 +56,13 @@ def overview(out_dir, system, columns, times, rows, title):
 def custom(out_dir, system, spec, columns, times, rows):
     """plot_<name>.png: the signals of one scenario plot against time or another signal."""
     x_name = spec.get("x", "time")
-    x = times if x_name == "time" else rows[:, columns.index(x_name)]
+    x_unit, x_factor = ("", 1.0) if x_name == "time" else _shown(system, x_name)
+    x = times if x_name == "time" else rows[:, columns.index(x_name)] * x_factor
     fig, ax = plt.subplots(figsize=(7, 4))
     for name in spec["signals"]:
-        ax.plot(x, rows[:, columns.index(name)], lw=1.3, label=name + _unit(system, name))
-    ax.set_xlabel("time [s]" if x_name == "time" else x_name + _unit(system, x_name))
+        unit, factor = _shown(system, name)
+        ax.plot(x, rows[:, columns.index(name)] * factor, lw=1.3, label=name + unit)
+    ax.set_xlabel("time [s]" if x_name == "time" else x_name + x_unit)
     ax.set_title(spec.get("title", spec["name"]))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)

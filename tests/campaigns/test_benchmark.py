@@ -65,10 +65,12 @@ def test_cli_benchmark_scorecard_rows_and_report(tmp_path, drawn):
         assert [a[c] for c in dispersed] == [b[c] for c in dispersed]
     assert "| capture_rate [%] |" in (out / "report.md").read_text()
     assert (out / "benchmark.png").is_file() and (out / "npc" / "report.md").is_file()
-    panels = drawn[(out / "benchmark.png").resolve()].panels  # a panel a metric, a box a law
+    outcomes, *panels = drawn[(out / "benchmark.png").resolve()].panels  # the outcomes, a panel a metric
+    assert (outcomes.title, outcomes.ylabel) == ("outcome", "runs [%]")
     names = [p.ylabel.split(" [")[0] for p in panels]  # a metric without a finite value has no panel
     assert len(names) >= 4 and names == [name for _, name, _ in PANELS if name in names]
     assert panels[0].ylabel == "apogee error [km]" and panels[0].legend[0].startswith("capture band +-")
+    assert panels[0].yscale == "symlog"
 
 
 def test_benchmark_of_a_folder_without_scenarios_is_an_input_error(tmp_path):

@@ -4,6 +4,7 @@ console, in summary.json and report.md; histograms of chosen columns; bad column
 import json
 
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 from click.testing import CliRunner
 
@@ -58,7 +59,9 @@ def test_chosen_columns_in_summary_report_and_histograms(tmp_path, drawn):
     assert [p.xlabel for p in histograms] == ["dispersed.atmosphere.rho_ref [kg/m3]", "max.vehicle.qdot [W/cm2]"]
     assert all(p.ylabel == "runs" and p.patches >= 5 for p in histograms)  # the bars
     versus, = drawn[(tmp_path / "o" / "versus.png").resolve()].panels
-    assert (versus.xlabel, versus.ylabel) == tuple(p.xlabel for p in histograms) and len(versus.lines) == 1
+    classes = set(pq.read_table(tmp_path / "o" / "rows.parquet").column("outcome").to_pylist())
+    assert (versus.xlabel, versus.ylabel) == tuple(p.xlabel for p in histograms)
+    assert len(versus.lines) == len(classes)  # one set of points per outcome class, in its colour
     scatter = drawn[(tmp_path / "o" / "scatter.png").resolve()].panels
     assert scatter and all(p.xlabel.startswith("exit.vehicle.") for p in scatter)
     # the exit altitude is the located 90 km crossing in every run: said, not drawn as a spike

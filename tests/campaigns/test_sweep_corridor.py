@@ -43,7 +43,8 @@ def test_sweep_gives_one_tidy_row_per_point_with_units(tmp_path, drawn):
 @pytest.mark.integration
 def test_the_corridor_brackets_the_nominal_entry_and_each_bound_lands_on_the_band_edge(tmp_path, drawn):
     tolerance = 100.0
-    corridor = aotv_cosim.corridor(PASS, lift_to_drag=5.0, tolerance=tolerance, out=tmp_path)
+    corridor = aotv_cosim.corridor(PASS, lift_to_drag=5.0, aim="band", tolerance=tolerance, out=tmp_path)
+    assert (corridor["plant"], corridor["control"], corridor["removed"]) == ("lift", "vehicle.u_lift", ["guidance"])
     steep, shallow = corridor["steep"], corridor["shallow"]
     assert steep["gamma0"] < corridor["nominal_gamma0"] == -0.02 < shallow["gamma0"]
     assert math.isclose(corridor["width_rad"], shallow["gamma0"] - steep["gamma0"])
@@ -53,11 +54,42 @@ def test_the_corridor_brackets_the_nominal_entry_and_each_bound_lands_on_the_ban
         assert abs(float(checked["apogee_error"]) - edge) <= tolerance, (case, checked["apogee_error"])
     assert (tmp_path / "corridor.png").is_file()
     panel, = drawn[(tmp_path / "corridor.png").resolve()].panels
-    assert (panel.xlabel, panel.ylabel) == ("entry flight-path angle gamma0 [deg]", "exit apogee error [km]")
+    assert (panel.xlabel, panel.ylabel) == ("entry flight-path angle gamma0 [deg]", "exit apogee error [km] (clipped "
+                                                                                     "at +-80)")
     assert panel.title.startswith("corridor ") and f"width {corridor['width_deg']:.4f} deg" in panel.title
     assert {"full lift up (L/D = 5)", "full lift down (L/D = 5)", "nominal entry", "corridor"} <= set(panel.legend)
     with pytest.raises(InputError, match="does not cross"):
         aotv_cosim.corridor(PASS, lift_to_drag=5.0, bracket=(-0.03, -0.025))
+
+
+@pytest.mark.integration
+def test_the_theoretical_corridor_exits_on_the_target_to_the_angle_tolerance(tmp_path):
+    """Aim "target" (the default): each bound's final bracket is at most the angle tolerance wide and
+    its two runs exit below and above the target; the band's corridor holds the target's."""
+    corridor = aotv_cosim.corridor(PASS, lift_to_drag=5.0, angle_tolerance=1e-6, out=tmp_path, workers=2)
+    capture = aotv_cosim.corridor(PASS, lift_to_drag=5.0, aim="band", angle_tolerance=1e-6, workers=2)
+    for name in ("steep", "shallow"):
+        bound = corridor[name]
+        low, high = bound["bracket"]
+        assert bound["edge"] == 0.0 and 0.0 < high - low <= 1e-6 and bound["gamma0"] in (low, high)
+        assert bound["bracket_errors"][0] < 0.0 <= bound["bracket_errors"][1]
+    assert capture["steep"]["gamma0"] < corridor["steep"]["gamma0"] < corridor["shallow"]["gamma0"] \
+        < capture["shallow"]["gamma0"]
+
+
+@pytest.mark.integration
+def test_corridor_refuses_lift_to_drag_where_it_would_be_ignored_or_is_missing(tmp_path):
+    with pytest.raises(InputError, match=r"--lift-to-drag: the vehicle is steered by a lift acceleration "
+                                         r"\(vehicle.u_lift, m/s2\) and states no lift limit; give the L/D"):
+        aotv_cosim.corridor(PASS, out=tmp_path / "seed000")
+    bank = SCENARIOS / "benchmark_aerocapture" / "afe" / "time_linear.json"
+    with pytest.raises(InputError, match=r"--lift-to-drag: the vehicle is steered by its bank angle \(vehicle.sigma, "
+                                         r"rad\) and flies C_L/C_D = 0.3 of its parameters: --lift-to-drag 0.3 would "
+                                         r"be ignored; leave --lift-to-drag out"):
+        aotv_cosim.corridor(bank, lift_to_drag=0.3, out=tmp_path / "afe")
+    with pytest.raises(InputError, match=r"--set: guidance.tf is a value of the guidance the corridor takes out"):
+        aotv_cosim.corridor(bank, set={"guidance.tf": 400.0}, out=tmp_path / "afe2")
+    assert not any(tmp_path.iterdir())  # refused before anything was written
 
 
 @pytest.mark.integration

@@ -156,8 +156,8 @@ def test_sweep_values_are_checked_as_set_checks_them(tmp_path):
 
 def test_a_law_wiring_missing_what_the_set_needs_names_the_users_file(tmp_path):
     """Issue 36: `record[10]: bank.saturation_time is not an output of the system` named a
-    generated file under results/ (a wiring whose bank component has another name; the set's
-    outcome.actuator names it too, and is found first)."""
+    generated file under results/ (a wiring whose bank component has another name). The set's
+    contract (`campaigns.contract`) names the user's wiring and what is missing, before any run."""
     wiring = json.loads((AFE.parent / "systems" / "afe_time_linear.json").read_text())
     wiring["components"]["steering"] = wiring["components"].pop("bank")
     wiring["connections"] = [c.replace("bank.", "steering.") for c in wiring["connections"]]
@@ -169,9 +169,9 @@ def test_a_law_wiring_missing_what_the_set_needs_names_the_users_file(tmp_path):
     status, text = invoke("benchmark", AFE, "--law", mine, "--runs", 1, "--out", out)
     assert status == 2, text
     line, = error_lines(text)
-    assert line == (f"error: {mine}: montecarlo.outcome.actuator: actuator 'bank' names no component of the system "
-                    "(the set's scenario adaptive.json asks for it: a law flown in this set must provide it); name one "
-                    "of vehicle, atmosphere, guidance, actuator, steering")
+    assert line == (f"error: {mine}: components: no component 'bank': the set {AFE} reads bank.saturation_time [s] "
+                    "(record; the outcome's actuator: saturation time); name the component of your law that provides "
+                    "it 'bank'")
     with pytest.raises(InputError) as caught:
         aotv_cosim.benchmark(AFE, mine, runs=1, out=out)
     assert f"error: {caught.value}" == line
@@ -180,11 +180,11 @@ def test_a_law_wiring_missing_what_the_set_needs_names_the_users_file(tmp_path):
     wiring["components"]["law"] = wiring["components"].pop("guidance")
     wiring["connections"] = [c.replace("guidance.", "law.") for c in wiring["connections"]]
     renamed = write_json(tmp_path / "renamed.json", wiring)
-    status, text = invoke("benchmark", _small_set(tmp_path / "set"), "--law", renamed, "--runs", 1, "--out", out)
-    assert status == 2 and error_lines(text)[0].startswith(
-        f"error: {renamed}: record[8]: guidance.u is not an output of the system (the set's scenario time_linear.json "
-        "asks for it: a law flown in this set must provide it); use a component of the system: vehicle, atmosphere, "
-        "actuator, law"), text
+    small = _small_set(tmp_path / "set")
+    status, text = invoke("benchmark", small, "--law", renamed, "--runs", 1, "--out", out)
+    assert status == 2 and error_lines(text) == [
+        f"error: {renamed}: components: no component 'guidance': the set {small} reads guidance.u [m/s2] (record); "
+        "name the component of your law that provides it 'guidance'"], text
     assert not out.exists()
 
 

@@ -20,7 +20,10 @@ def test_run_default_scenario(tmp_path, drawn):
     overview = drawn[(tmp_path / "overview.png").resolve()]
     assert overview.title == NOMINAL.stem
     assert [panel.title.split(" [")[0] for panel in overview.panels] == scenario["record"][:12]
-    assert overview.panels[0].title == "vehicle.h [m]"
+    assert overview.panels[0].title == "vehicle.h [km]"  # display units in the plot, SI in the files
+    assert {p.title for p in overview.panels} >= {"vehicle.gamma [deg]", "vehicle.v [km/s]"}
+    assert json.loads((tmp_path / "summary.json").read_text())["units"]["vehicle.h"] == "m"
+    assert "vehicle.h" in (tmp_path / "timeseries.csv").read_text().splitlines()[0]
     assert all(panel.xlabel == "time [s]" and len(panel.lines) == 1 for panel in overview.panels)
     assert [p.title.split(" [")[0] for p in drawn[(tmp_path / "overview-2.png").resolve()].panels] == \
         scenario["record"][12:]

@@ -12,7 +12,6 @@ from aotv_cosim.guidance import lateral, npc_bank
 from aotv_cosim.guidance.lift_to_bank import bank_for_lift
 from aotv_cosim.physics import aerocapture_vehicles as av
 from aotv_cosim.physics import bank_actuator, density_profile, us76
-from aotv_cosim.studies.aerocapture_corridor import model_of
 from tests.helpers import SCENARIOS
 
 
@@ -152,7 +151,7 @@ def test_npc_bank_converges_at_the_nominal_entry():
     settings = npc_bank.BankSettings(av.TARGET_APOGEE, av.H_INTERFACE)
     for guess in (0.0, 0.5, 1.0):
         corr = npc_bank.correct(0.0, (av.H_INTERFACE, av.geo_return_speed(), -0.07773), guess, 1.0,
-                                model_of(av.AFE), settings)
+                                npc_bank.BankModel.of(av.AFE), settings)
         assert corr.converged and abs(corr.prediction.miss) <= settings.tolerance
         assert math.degrees(math.acos(corr.u_c)) == pytest.approx(90.0, abs=0.5)
 

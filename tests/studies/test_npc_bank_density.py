@@ -11,10 +11,9 @@ from aotv_cosim.guidance import density_estimation as de
 from aotv_cosim.guidance import npc_bank
 from aotv_cosim.physics import aerocapture_vehicles as av
 from aotv_cosim.physics.density_profile import profile_factor
-from aotv_cosim.studies.aerocapture_corridor import model_of
 from tests.helpers import SCENARIOS
 
-MODEL = model_of(av.AFE)
+MODEL = npc_bank.BankModel.of(av.AFE)
 FACTOR, SIGMA, LENGTH, SEED = 1.1, 0.1, 10000.0, 12345
 DRAG_RATIO = 1.05
 """The vehicle's true C_D S/m over the model's: the sensed drag carries it into K."""
