@@ -104,6 +104,10 @@ class Scenario:
     scatter: list = field(default_factory=list)
     outcome: "OutcomeSettings | None" = None
     """Campaign outcome settings (`model.outcome_settings`): runs are classified when given."""
+    oracle: bool = False
+    """The scenario flies its set's per-run oracle (`"montecarlo": {"oracle": true}`: the best pass
+    each run allows, e.g. OracleBankGuidance), not a law: a benchmark scores the set's laws against
+    its rows, run by run (`campaigns.oracle_score`)."""
     report_columns: list = field(default_factory=list)
     """Campaign columns of the report's table and histograms (`campaigns.report`)."""
     versus: list = field(default_factory=list)
@@ -169,6 +173,7 @@ def load_scenario(path, sets=None, step=None, start=None, stop=None, *, fmus: Fm
                                 d.get("high")) for signal, d in dispersion_entries(doc, path).items()],
         scatter=list(doc.get("montecarlo", {}).get("scatter", [])),
         outcome=_outcome(doc, system, path),
+        oracle=doc.get("montecarlo", {}).get("oracle", False),
         report_columns=list(doc.get("montecarlo", {}).get("columns", [])),
         versus=[tuple(p) for p in doc.get("montecarlo", {}).get("versus", [])],
         step_timeout=doc.get("step_timeout"),
