@@ -145,7 +145,10 @@ def montecarlo(scenario, runs: int, *, workers: int | None = None, seed: int = 0
 @dataclasses.dataclass
 class Benchmark:
     """A guidance benchmark: `scorecard` (one row per law, index law) and `rows` (every run of
-    every law, a `law` column) as DataFrames with their units in `.attrs["units"]`; `result`:
+    every law, a `law` column) as DataFrames with their units in `.attrs["units"]`; in a set with
+    an oracle, the scorecard's `role` (the oracle, the bound, or a law) and `dv_penalty_p50`,
+    `dv_penalty_p99.865` (m/s), the rows' `oracle.dv_total` and `oracle.dv_penalty` (m/s, nan
+    unless both the law and the oracle captured the run: `campaigns.oracle_score`); `result`:
     the scorecard.json dict (which laws were flown now and which reused, wall time, the laws whose
     runs all failed, status "interrupted" if a SIGINT/SIGTERM stopped it: then only the laws done
     by then and no rows); `out`: the output folder or None."""

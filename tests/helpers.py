@@ -129,7 +129,7 @@ def check_whole_rows(out: Path) -> list:
 class Panel:
     """What one drawn Axes of a figure shows: its texts, its line labels (matplotlib's `_childN`
     for unlabelled ones), the entries of its legend, how many collections (scatter points) and
-    patches (histogram bars, shaded bands) it holds, its axis scales and y limits."""
+    patches (histogram bars, shaded bands) it holds, its axis scales, y limits and x tick labels."""
 
     title: str
     xlabel: str
@@ -141,6 +141,7 @@ class Panel:
     xscale: str = "linear"
     yscale: str = "linear"
     ylim: tuple = ()
+    xticklabels: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -157,6 +158,7 @@ def drawing(fig) -> Drawing:
     panels = tuple(Panel(ax.get_title(), ax.get_xlabel(), ax.get_ylabel(),
                          tuple(line.get_label() for line in ax.get_lines()),
                          tuple(text.get_text() for text in ax.get_legend().get_texts()) if ax.get_legend() else (),
-                         len(ax.collections), len(ax.patches), ax.get_xscale(), ax.get_yscale(), ax.get_ylim())
+                         len(ax.collections), len(ax.patches), ax.get_xscale(), ax.get_yscale(), ax.get_ylim(),
+                         tuple(t.get_text() for t in ax.get_xticklabels()))
                    for ax in fig.axes if ax.axison)
     return Drawing(fig.get_suptitle(), panels)

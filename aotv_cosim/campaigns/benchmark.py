@@ -6,7 +6,8 @@ runs with the same campaign seed, so run k of every law flies the same draws (`d
 Written in the output folder: one campaign folder per law (rows, summary.json, report.md, plots),
 `rows.csv` / `rows.parquet` with every law's rows and a `law` column, `scorecard.csv` and
 `scorecard.json` (one row per law, units beside), `benchmark.png` (overlaid distributions) and
-`report.md`.
+`report.md`. A set with an oracle (`oracle_score`) flies it first like a law, joins its per-run dv
+to every law's rows by run and scores each law's dv penalty against it; `penalty.png` draws it.
 
 CPU per run is the CPU time (user + system) of the local worker processes, read from
 `resource.getrusage(RUSAGE_CHILDREN)` once their pool is shut down, plus this process's, divided
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from aotv_cosim.campaigns import limits as limits_of_runs
+from aotv_cosim.campaigns import oracle_score
 from aotv_cosim.campaigns.campaign import fly
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.statistics import completed_values
@@ -39,7 +41,7 @@ from aotv_cosim.status import Status
 LAWS = "laws"
 """The folder of the output folder holding the scenarios generated for --law wirings."""
 BENCHMARK_OUTPUTS = ("rows.csv", "rows.parquet", "rows.parquet.part", "scorecard.csv", "scorecard.json",
-                     "scorecard.json.part", "report.md", "benchmark.png")
+                     "scorecard.json.part", "report.md", "benchmark.png", "penalty.png")
 """The files a benchmark writes in its folder (besides laws/ and one campaign folder per law)."""
 
 PERCENT = (0.135, 50.0, 99.865)
@@ -56,10 +58,10 @@ METRICS = (("outcome.apogee_error", "apogee error", "m", PERCENT),
 """(row column, label, unit, percentiles) of the scorecard; percentiles over the completed runs
 whose value is finite (an unbound exit orbit has no finite apogee error). The heating is shown
 convective (Sutton-Graves: peak_heat_rate, heat_load) and total (plus Tauber-Sutton radiative).
-A per-run figure from elsewhere (e.g. the dv of the best pass the same run allowed) joins as a
-row column by the row's "run" (run k of every law flies the same draws), then scores and plots as
-one more entry here and in `benchmark_report.PANELS` (`score`, `score_columns` and
-`benchmark_report.plots` take them)."""
+A per-run figure from elsewhere joins as a row column by the row's "run" (run k of every law
+flies the same draws), then scores and plots as one more entry here and in
+`benchmark_report.PANELS` (`score`, `score_columns` and `benchmark_report.plots` take them): the
+dv penalty against the set's oracle does (`oracle_score.METRIC`, after the correction dv)."""
 
 
 def shipped_sets() -> list:
@@ -89,9 +91,10 @@ def set_path(set_dir) -> Path:
 
 def scenarios_of(set_dir) -> list:
     """The set's scenarios [(file, loaded Scenario)], sorted by file, checked before any run: each
-    classifies its runs, all give the same campaign columns, and each file name can name a law
-    (`options.checks.law_name`). A set is a folder of scenarios or one scenario file. InputError for
-    an empty or unusable set; an unknown one lists the shipped sets."""
+    classifies its runs, all give the same campaign columns, each file name can name a law
+    (`options.checks.law_name`) and at most one is the set's oracle (`oracle_score.of_set`). A set
+    is a folder of scenarios or one scenario file. InputError for an empty or unusable set; an
+    unknown one lists the shipped sets."""
     folder = set_path(set_dir)
     if folder.is_file() and _is_wiring(folder):
         raise InputError("a wiring, not a scenario set", file=folder,
@@ -110,6 +113,7 @@ def scenarios_of(set_dir) -> list:
         law_name(path.stem, path, "SET")
     loaded = [(path, load_scenario(path)) for path in paths]
     _check_alike(loaded)
+    oracle_score.of_set(loaded)
     return loaded
 
 
@@ -127,20 +131,23 @@ def _check_alike(loaded) -> None:
 
 
 def law_scenarios(set_scenarios, law_files, work_dir, set_name="the set") -> dict:
-    """{law: (scenario path, loaded Scenario)}: the laws of the set's `scenarios_of` (file names),
-    then each of `law_files` flown through the set's dispersions. A law file is a wiring (the
-    set's first scenario is flown with its "system" replaced by it: written to
-    work_dir/laws/<law>.json; a problem found there is reported naming the law file) or a scenario
-    whose dispersions and columns are the set's; either is first checked against the set's contract
-    (`contract`: every missing piece named in the law's own file). InputError for a clash of names,
-    a name that would alias the output folder's own files (`options.checks.law_name`) or a law that
-    does not fit."""
+    """{law: (scenario path, loaded Scenario)}: the set's oracle if it has one, the laws of the
+    set's `scenarios_of` (file names), then each of `law_files` flown through the set's
+    dispersions. A law file is a wiring (the set's first scenario that is not its oracle is flown
+    with its "system" replaced by it: written to work_dir/laws/<law>.json; a problem found there is
+    reported naming the law file) or a scenario whose dispersions and columns are the set's and
+    which is no oracle (`oracle_score.refuse_as_law`); either is first checked against the set's
+    contract (`contract`: every missing piece named in the law's own file). InputError for a clash
+    of names, a name that would alias the output folder's own files (`options.checks.law_name`) or
+    a law that does not fit."""
     from aotv_cosim.campaigns import contract
 
     needs = contract.of_set(set_scenarios) if law_files else []
-    laws = {path.stem: (path, scenario) for path, scenario in set_scenarios}
+    oracle = oracle_score.of_set(set_scenarios)
+    laws = {path.stem: (path, scenario) for path, scenario in set_scenarios if path.stem == oracle}
+    laws.update({path.stem: (path, scenario) for path, scenario in set_scenarios})
     set_names = {name.casefold() for name in laws}
-    template, reference = set_scenarios[0]
+    template, reference = oracle_score.first_law(set_scenarios)
     for law_file in map(Path, law_files):
         law = law_name(law_file.stem, law_file)
         if law.casefold() in {name.casefold() for name in laws}:  # a law is named by its file name
@@ -157,6 +164,7 @@ def law_scenarios(set_scenarios, law_files, work_dir, set_name="the set") -> dic
         else:
             scenario_path = law_file.resolve()
             scenario = load_scenario(scenario_path)
+            oracle_score.refuse_as_law(scenario, law_file)
             contract.check(needs, scenario.system, law_file, set_name,
                            entry_prefix=f"system ({Path(scenario.system.path).name}): ")
         if [d.__dict__ for d in scenario.dispersions] != [d.__dict__ for d in reference.dispersions]:
@@ -201,6 +209,7 @@ def _flown_with(template: Path, wiring: Path, out: Path) -> Path:
 
     doc = strict_json(template.read_text(encoding="utf-8"))
     doc.pop("$schema", None)
+    doc.get("montecarlo", {}).pop("oracle", None)  # a set holding only its oracle: the law is no oracle
     if "dispersion_set" in doc:
         doc["dispersion_set"] = str((template.parent / doc["dispersion_set"]).resolve())
     doc["system"] = str(wiring.resolve())
@@ -267,9 +276,11 @@ def _cpu_seconds():
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
-def score_columns(metrics=METRICS) -> list:
-    """(column, unit) of the scorecard of `metrics` (`METRICS`), in order."""
-    cols = [("law", ""), ("runs", "1"), ("capture_rate", "%")] + [(o, "1") for o in OUTCOMES]
+def score_columns(metrics=METRICS, roles=False) -> list:
+    """(column, unit) of the scorecard of `metrics` (`METRICS`), in order; with `roles`, the role
+    of each row after the law (`oracle_score.ROLE`: the set's oracle or a law)."""
+    cols = [("law", "")] + ([(oracle_score.ROLE, "")] if roles else []) + \
+        [("runs", "1"), ("capture_rate", "%")] + [(o, "1") for o in OUTCOMES]
     for column, _, unit, percents in metrics:
         cols += [(f"{column.split('.', 1)[1]}_p{p:g}", unit) for p in percents]
     return cols + [("cpu_per_run", "s")]
@@ -291,9 +302,11 @@ def score(law, rows, cpu_per_run, metrics=METRICS) -> dict:
 def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
     """Fly every law of `options.scenario_set`, and each of `options.laws` (`law_scenarios`), for
     `options.runs` runs into `options.out`; returns (and writes as scorecard.json) the set, runs,
-    seed, "status", "scorecard" (one dict per law), its "units", "wall_time_s" of the campaigns
-    flown now, "laws" ({law: {scenario, wall_time_s, reused, completed, first_failure}}),
-    "failed_laws" (those whose runs all failed) and "plots".
+    seed, "status", "oracle" (the law name of the set's oracle, None without one), "scorecard" (one
+    dict per law, the oracle's first), its "units", "wall_time_s" of the campaigns flown now,
+    "laws" ({law: {scenario, wall_time_s, reused, completed, first_failure}}), "failed_laws"
+    (those whose runs all failed) and "plots". With an oracle, every law's rows get its dv and the
+    dv penalty by run, and the scorecard a role and the penalty's percentiles (`oracle_score`).
 
     A law whose scenario, FMUs, dispersions, seed and N are those of a campaign finished before
     (`campaign_key`) is not flown again: its rows are read from `stored_rows_dir()` (unless
@@ -311,17 +324,20 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
         with interrupts.deferred(), claimed(out, BENCHMARK_OUTPUTS):
             flown = law_scenarios(set_scenarios, options.laws, out, str(options.scenario_set))  # checked before any run
             limits = limits_of_runs.of_set(set_scenarios)  # the set's stated limits, for every law
+            oracle = oracle_score.of_set(set_scenarios)
             # every law's rows are kept for the scorecard, beside those of the law being flown
-            check_fits(options.runs * (len(flown) + 1), len(columns(set_scenarios[0][1])) + 1, options.scenario_set)
-            return _benchmark(options, out, flown, limits, echo)
+            joined = len(oracle_score.COLUMNS) if oracle else 0
+            check_fits(options.runs * (len(flown) + 1), len(columns(set_scenarios[0][1])) + 1 + joined,
+                       options.scenario_set)
+            return _benchmark(options, out, flown, limits, oracle, echo)
     except InputError:
         if created:  # refused before any run: leave no folder behind
             remove_written(out)
         raise
 
 
-def _benchmark(options, out, flown, limits, echo) -> dict:
-    cards, summaries, every_row, names, units = [], {}, [], None, None
+def _benchmark(options, out, flown, limits, oracle, echo) -> dict:
+    summaries, rows_by_law, cpu, units = {}, {}, {}, None
     status = Status.COMPLETED
     for law, (path, scenario) in flown.items():
         key = campaign_key(path, scenario, options.runs, options.seed)
@@ -341,21 +357,34 @@ def _benchmark(options, out, flown, limits, echo) -> dict:
             if _storable(rows, options.runs):
                 _store(key, rows, list(rows[0]), record)
         summaries[law] = _law_summary(path, record, rows, reused=stored is not None)
-        cards.append({**record["card"], "law": law, **limits_of_runs.score(rows, limits, scenario.outcome.vehicle)})
-        names = names or ["law"] + list(rows[0])
+        rows_by_law[law], cpu[law] = rows, record["card"].get("cpu_per_run")
         units = units or {"law": "", **record["units"]}
-        every_row += [{"law": law, **r} for r in rows]
+    scored = oracle in rows_by_law  # an interruption before the oracle was flown leaves none to score against
+    if scored:
+        rows_by_law = oracle_score.joined(rows_by_law, oracle)
+        units.update(oracle_score.COLUMNS)
+    metrics = oracle_score.with_penalty(METRICS) if scored else METRICS
+    cards = [_card(law, rows, cpu[law], metrics, limits, flown[law][1], oracle) for law, rows in rows_by_law.items()]
     band = next(iter(flown.values()))[1].outcome.band
     result = {"set": str(set_path(options.scenario_set).resolve()), "runs": options.runs, "seed": options.seed,
-              "status": status.value, "scorecard": cards,
-              "units": dict(score_columns() + limits_of_runs.columns(limits)),
+              "status": status.value, "oracle": oracle, "scorecard": cards,
+              "units": dict(score_columns(metrics, roles=oracle is not None) + limits_of_runs.columns(limits)),
               "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()), "laws": summaries,
               "failed_laws": [law for law, s in summaries.items() if not s["completed"] and s["runs"]],
               "plots": []}
     if status == Status.INTERRUPTED:
         result["interrupted_law"] = law
         return result
-    return _write_results(out, result, every_row, names, units, band)
+    return _write_results(out, result, rows_by_law, units, band)
+
+
+def _card(law, rows, cpu_per_run, metrics, limits, scenario, oracle) -> dict:
+    """The scorecard row of a law (`score` over `metrics`, the limits' figures), its role when the
+    set has an `oracle`."""
+    card = {**score(law, rows, cpu_per_run, metrics), **limits_of_runs.score(rows, limits, scenario.outcome.vehicle)}
+    if oracle is not None:
+        card[oracle_score.ROLE] = oracle_score.ORACLE if law == oracle else oracle_score.LAW
+    return card
 
 
 def _law_summary(path, record, rows, reused) -> dict:
@@ -399,15 +428,22 @@ def _fly(law, path, scenario, out, options):
     return rows, record
 
 
-def _write_results(out, result, every_row, names, units, band) -> dict:
+def _write_results(out, result, rows_by_law, units, band) -> dict:
     from aotv_cosim.campaigns import benchmark_report
 
     cards, units_of_scores = result["scorecard"], result["units"]
     _write_scorecard(out, cards, units_of_scores)
+    every_row = [{"law": law, **r} for law, rows in rows_by_law.items() for r in rows]
+    names = list(every_row[0])
     write_parquet(every_row, names, out / "rows.parquet", units)
     _write_rows_csv(out / "rows.csv", every_row, names)
-    result["plots"] = benchmark_report.plots(out, {law: [r for r in every_row if r["law"] == law]
-                                                   for law in result["laws"]}, band)
+    oracle = result["oracle"] if result["oracle"] in rows_by_law else None
+    result["plots"] = benchmark_report.plots(out, rows_by_law, band, benchmark_report.panels_of(rows_by_law, oracle),
+                                             oracle)
+    if oracle is not None:
+        result["plots"].append(benchmark_report.penalty_plot(out, rows_by_law, oracle))
+    elif "penalty.png" in written(out):  # an earlier benchmark's, of a set with an oracle: not this one's
+        (out / "penalty.png").unlink(missing_ok=True)
     (out / "report.md").write_text(benchmark_report.markdown(result, cards, units_of_scores))
     write_json_atomically(out / "scorecard.json", result)
     return result

@@ -1,16 +1,27 @@
-"""The benchmark's scorecard as text (console, report.md) and its plot: the laws side by side."""
+"""The benchmark's scorecard as text (console, report.md) and its plots: the laws side by side
+(benchmark.png) and, in a set with an oracle, each law's dv penalty against it run by run
+(penalty.png)."""
 
 import math
 
 import numpy as np
 
+from aotv_cosim.campaigns import oracle_score
 from aotv_cosim.campaigns.figures import axes_style
 from aotv_cosim.campaigns.statistics import completed_values
 
 PANELS = (("outcome.apogee_error", "apogee error", "m"), ("outcome.dv_total", "correction dv", "m/s"),
-          ("outcome.peak_heat_rate", "peak heat rate", "W/m2"), ("outcome.heat_load", "heat load", "J/m2"),
+          ("outcome.peak_heat_rate_total", "peak total heat rate", "W/m2"),
+          ("outcome.heat_load_total", "total heat load", "J/m2"),
           ("outcome.peak_load_factor", "peak load factor", "1"), ("outcome.int_abs_u", "int |u| dt", "m/s"))
-"""(row column, name, SI unit) of each panel of benchmark.png."""
+"""(row column, name, SI unit) of each panel of benchmark.png. The heating is the total,
+convective plus radiative, which the stated heat-rate limit is on (`limits`)."""
+CONVECTIVE = {"outcome.peak_heat_rate_total": ("outcome.peak_heat_rate", "peak heat rate", "W/m2"),
+              "outcome.heat_load_total": ("outcome.heat_load", "heat load", "J/m2")}
+"""The convective panel drawn instead of a total one in a set whose runs give no total (its vehicle
+has no radiative heating, or the set does not record it: benchmark_seed000)."""
+PENALTY_PANEL = (oracle_score.PENALTY, "dv penalty vs the oracle", "m/s")
+"""The panel of the dv penalty against the set's oracle, after the correction dv's."""
 
 
 def _cell(v) -> str:
@@ -19,6 +30,20 @@ def _cell(v) -> str:
     if isinstance(v, float):
         return "-" if not math.isfinite(v) else f"{v:.4g}"
     return str(v)
+
+
+def panels_of(rows_by_law, oracle=None) -> tuple:
+    """`PANELS` for these rows ({law: rows}): a total heating panel where no run gives a finite
+    total is the convective one (`CONVECTIVE`); with an `oracle` (its law name) the dv penalty's
+    panel follows the correction dv's."""
+    def given(column):
+        return any(len(completed_values(rows, column)) for rows in rows_by_law.values())
+
+    panels = [p if p[0] not in CONVECTIVE or given(p[0]) else CONVECTIVE[p[0]] for p in PANELS]
+    if oracle is not None:
+        at = next(k + 1 for k, p in enumerate(panels) if p[0] == "outcome.dv_total")
+        panels.insert(at, PENALTY_PANEL)
+    return tuple(panels)
 
 
 def table(cards, units) -> list:
@@ -40,8 +65,20 @@ def console(cards, units) -> str:
     rows = table(scaled, shown)
     lines = list(zip(*rows))
     widths = [max(len(c) for c in col) for col in zip(*lines)]
-    return "\n".join("  ".join(c.ljust(w) if k == 0 else c.rjust(w) for k, (c, w) in enumerate(zip(line, widths)))
-                     for line in lines)
+    text = ["  ".join(c.ljust(w) if k == 0 else c.rjust(w) for k, (c, w) in enumerate(zip(line, widths)))
+            for line in lines]
+    return "\n".join(text + [_oracle_note(cards, "\n")] if oracle_score.ROLE in units else text)
+
+
+def _oracle_note(cards, sep) -> str:
+    """What the oracle's row and the dv_penalty lines are (`oracle_score`), for the console and report.md."""
+    oracle = next(card for card in cards if card[oracle_score.ROLE] == oracle_score.ORACLE)
+    bound = (f"{oracle['law']} is the set's oracle, the bound, not a competitor: the best pass each run allows "
+             f"with perfect knowledge of that run; it captured {oracle['captured']} of {oracle['runs']} runs.")
+    penalty = ("dv_penalty: a law's correction dv minus the oracle's in the same run, over the runs both captured "
+               "(a run the law did not capture has no penalty: it counts in its capture rate); the oracle's row "
+               "has none.")
+    return sep.join([bound, penalty])
 
 
 def markdown(result, cards, units) -> str:
@@ -53,6 +90,8 @@ def markdown(result, cards, units) -> str:
            "bound the 3-sigma-equivalent band. A `-` is a figure the runs do not provide.", "",
            "| " + " | ".join(lines[0]) + " |", "|---|" + "---:|" * (len(lines[0]) - 1)]
     out += ["| " + " | ".join(line) + " |" for line in lines[1:]]
+    if oracle_score.ROLE in units:
+        out += ["", _oracle_note(cards, "\n\n")]
     out += ["", f"Campaign wall time of the laws flown now: {result['wall_time_s']:.1f} s.", ""]
     out += [f"- {law}: rows reused from an earlier campaign with the same scenario, FMUs, dispersions, seed "
             "and N" if info.get("reused") else f"- {law}: [{law}/report.md]({law}/report.md)"
@@ -61,15 +100,15 @@ def markdown(result, cards, units) -> str:
     return "\n".join(out) + "\n"
 
 
-def plots(out_dir, rows_by_law, band=None, panels=PANELS) -> list:
+def plots(out_dir, rows_by_law, band=None, panels=PANELS, oracle=None) -> list:
     """benchmark.png: the outcome classes of each law (stacked bars, the campaign plots' colours),
-    then one panel per metric of `panels` (`PANELS`), the laws side by side as box plots (median, quartiles,
+    then one panel per metric of `panels` (`PANELS`, `panels_of`), the laws side by side as box plots (median, quartiles,
     whiskers at the 0.135 / 99.865 percentiles, runs beyond them as points) over the completed runs
     with a finite value, in display units (km, W/cm2, kJ/cm2, g); the apogee error on a
     symmetric-log axis (linear within +-1 km) with the capture band (+-band m) shaded; every other
     metric on an axis clipped to the laws' far-out fences when runs lie beyond them (`plot_axes`
-    says why), those runs drawn as triangles on its edge and counted in the legend. The capture rate is under each law's name; the last cell holds the
-    outcome classes' legend."""
+    says why), those runs drawn as triangles on its edge and counted in the legend. The capture rate is under each law's name
+    (the set's `oracle`, if named, marked as the bound); the last cell holds the outcome classes' legend."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -78,10 +117,11 @@ def plots(out_dir, rows_by_law, band=None, panels=PANELS) -> list:
     from aotv_cosim.output.display_units import display
 
     laws = list(rows_by_law)
-    ticks = [f"{law}\n{_capture_rate(rows_by_law[law]):.0f} % capt." for law in laws]
+    names = [_shown(law, oracle) for law in laws]
+    ticks = [f"{name}\n{_capture_rate(rows_by_law[law]):.0f} % capt." for law, name in zip(laws, names)]
     ncols = max(4, -(-(len(panels) + 2) // 2))  # the outcomes, the panels and the legend, in two rows
     fig, axes = plt.subplots(2, ncols, figsize=(max(4.0 * ncols, 4 * (1.2 + 0.5 * len(laws))), 8))
-    _outcome_panel(axes.flat[0], rows_by_law, laws)
+    _outcome_panel(axes.flat[0], rows_by_law, laws, names)
     for ax, (column, name, unit) in zip(list(axes.flat)[1:], panels):
         shown, factor = display(column, unit)
         data = [completed_values(rows_by_law[law], column) * factor for law in laws]
@@ -114,8 +154,63 @@ def plots(out_dir, rows_by_law, band=None, panels=PANELS) -> list:
     return ["benchmark.png"]
 
 
-def _outcome_panel(ax, rows_by_law, laws) -> None:
-    """The share of each outcome class per law, stacked bars in the classes' colours."""
+def penalty_plot(out_dir, rows_by_law, oracle) -> str:
+    """penalty.png: one panel per law (not the `oracle`), its dv penalty against the oracle in each
+    run both captured (`oracle_score.PENALTY`) over the oracle's dv in that run, the oracle's line
+    (zero penalty) drawn, the axis clipped to the penalty's far-out fences with the runs beyond
+    marked (`plot_axes`); the title says how many of the law's runs are scored and how many it did
+    not capture (those have no penalty)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from aotv_cosim.campaigns.plot_axes import Scale, classes_of, scatter_by_outcome
+
+    laws = [law for law in rows_by_law if law != oracle]
+    ncols = min(4, max(1, len(laws)))
+    nrows = max(1, -(-len(laws) // ncols))
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.4 * nrows), squeeze=False)
+    for ax, law in zip(axes.flat, laws):
+        rows = rows_by_law[law]
+        x = np.array([float(r[oracle_score.ORACLE_DV]) for r in rows])
+        y = np.array([float(r[oracle_score.PENALTY]) for r in rows])
+        scored = np.isfinite(y)
+        captured = sum(r["outcome"] == "captured" for r in rows)
+        ax.set_title(f"{law}: {int(scored.sum())} of {len(rows)} runs scored\n({len(rows) - captured} not captured "
+                     "by the law: no penalty)", fontsize=8)
+        if not scored.any():
+            ax.axis("off")
+            continue
+        handles = scatter_by_outcome(ax, x[scored], y[scored], np.array(classes_of(rows), dtype=object)[scored],
+                                     Scale(oracle_score.PENALTY, y[scored]))
+        line = ax.axhline(0.0, color="black", lw=0.8, zorder=1)
+        below = int((y[scored] < 0.0).sum())
+        labels = {"the oracle (no penalty)" + (f"; {below} runs below it" if below else ""): line}
+        labels.update({k: v for k, v in handles.items() if " the axis " in k})
+        ax.legend(handles=list(labels.values()), labels=list(labels), fontsize=6, loc="best")
+        ax.set_xlabel("the oracle's correction dv [m/s]", fontsize=8)
+        ax.set_ylabel("dv penalty [m/s]", fontsize=8)
+        axes_style(ax)
+    for ax in list(axes.flat)[len(laws):]:
+        ax.axis("off")
+    fig.suptitle(f"dv penalty against the oracle ({oracle}), run by run", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out_dir / "penalty.png", dpi=90)
+    plt.close(fig)
+    return "penalty.png"
+
+
+def _shown(law, oracle) -> str:
+    """A law's name on the plots: the set's oracle marked as the bound."""
+    if law != oracle:
+        return law
+    return f"{law}: bound" if "oracle" in law else f"{law} (oracle): bound"
+
+
+def _outcome_panel(ax, rows_by_law, laws, names) -> None:
+    """The share of each outcome class per law (named `names` on the axis), stacked bars in the
+    classes' colours."""
     from aotv_cosim.campaigns.plot_axes import OUTCOME_COLORS
 
     bottom = np.zeros(len(laws))
@@ -124,7 +219,7 @@ def _outcome_panel(ax, rows_by_law, laws) -> None:
                           for law in laws])
         ax.bar(range(1, len(laws) + 1), share, bottom=bottom, color=color, width=0.6, label=cls.replace("_", " "))
         bottom += share
-    ax.set_xticks(range(1, len(laws) + 1), laws, fontsize=7, rotation=30, ha="right")
+    ax.set_xticks(range(1, len(laws) + 1), names, fontsize=7, rotation=30, ha="right")
     ax.set_ylim(0, 100)
     ax.set_ylabel("runs [%]", fontsize=8)
     ax.set_title("outcome", fontsize=9)

@@ -23,6 +23,7 @@ equal).
 
 from dataclasses import dataclass
 
+from aotv_cosim.campaigns.oracle_score import first_law
 from aotv_cosim.errors import InputError, raise_if_any
 from aotv_cosim.studies import corridor as core
 
@@ -58,10 +59,11 @@ class Need:
 def of_set(set_scenarios) -> list:
     """The contract (a list of Need, in the order plant, command, outputs, parameters) of a set's
     [(path, loaded Scenario)] (`benchmark.scenarios_of`: every scenario classifies its runs and
-    gives the same columns). The plant and its command are those the corridor reads from the first
-    scenario's wiring (`studies.corridor.plant_of`); a set whose plant cannot be read that way has
-    none in its contract."""
-    first_path, first = set_scenarios[0]
+    gives the same columns). The plant and its command are those the corridor reads from the wiring
+    of the first scenario that is not the set's oracle (`oracle_score.first_law`: a law's, as a
+    `--law` wiring is flown in it; `studies.corridor.plant_of`); a set whose plant cannot be read
+    that way has none in its contract."""
+    first_path, first = first_law(set_scenarios)
     overridden = _scenario_parameters(first_path)
     needs = []
     try:

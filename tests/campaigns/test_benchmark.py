@@ -14,10 +14,9 @@ import pyarrow.parquet as pq
 import pytest
 from click.testing import CliRunner
 
-from aotv_cosim.campaigns import benchmark
+from aotv_cosim.campaigns import benchmark, benchmark_report
 from aotv_cosim.campaigns.benchmark import run_benchmark
 from aotv_cosim.options import BenchmarkOptions
-from aotv_cosim.campaigns.benchmark_report import PANELS
 from aotv_cosim.cli import main
 from aotv_cosim.errors import InputError
 from tests.helpers import SCENARIOS, write_json
@@ -66,9 +65,14 @@ def test_cli_benchmark_scorecard_rows_and_report(tmp_path, drawn):
     assert "| capture_rate [%] |" in (out / "report.md").read_text()
     assert (out / "benchmark.png").is_file() and (out / "npc" / "report.md").is_file()
     outcomes, *panels = drawn[(out / "benchmark.png").resolve()].panels  # the outcomes, a panel a metric
+    shown = benchmark_report.panels_of(by_law)
     assert (outcomes.title, outcomes.ylabel) == ("outcome", "runs [%]")
     names = [p.ylabel.split(" [")[0] for p in panels]  # a metric without a finite value has no panel
-    assert len(names) >= 4 and names == [name for _, name, _ in PANELS if name in names]
+    assert len(names) >= 4 and names == [name for _, name, _ in shown if name in names]
+    # seed 000's vehicle has no radiative heating: the convective heating is drawn; no oracle, no penalty
+    assert "peak heat rate" in names and "dv penalty vs the oracle" not in names
+    assert not (out / "penalty.png").exists() and "role" not in cards["npc"]
+    assert not any(name.startswith("oracle.") for name in table.column_names)
     assert panels[0].ylabel == "apogee error [km]" and panels[0].legend[0].startswith("capture band +-")
     assert panels[0].yscale == "symlog"
 
