@@ -155,11 +155,12 @@ def plots(out_dir, rows_by_law, band=None, panels=PANELS, oracle=None) -> list:
 
 
 def penalty_plot(out_dir, rows_by_law, oracle) -> str:
-    """penalty.png: one panel per law (not the `oracle`), its dv penalty against the oracle in each
-    run both captured (`oracle_score.PENALTY`) over the oracle's dv in that run, the oracle's line
-    (zero penalty) drawn, the axis clipped to the penalty's far-out fences with the runs beyond
-    marked (`plot_axes`); the title says how many of the law's runs are scored and how many it did
-    not capture (those have no penalty)."""
+    """penalty.png: one panel per law (not the `oracle`) with a run both captured, its dv penalty
+    against the oracle in each such run (`oracle_score.PENALTY`) over the oracle's dv in that run,
+    the oracle's line (zero penalty) drawn, the axis clipped to the penalty's far-out fences with
+    the runs beyond marked (`plot_axes`); the title says how many of the law's runs are scored and
+    how many it did not capture (those have no penalty). The laws without a scored run are named
+    under the panels."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -167,26 +168,25 @@ def penalty_plot(out_dir, rows_by_law, oracle) -> str:
 
     from aotv_cosim.campaigns.plot_axes import Scale, classes_of, scatter_by_outcome
 
-    laws = [law for law in rows_by_law if law != oracle]
+    penalty = {law: np.array([float(r[oracle_score.PENALTY]) for r in rows]) for law, rows in rows_by_law.items()
+               if law != oracle}
+    laws = [law for law, y in penalty.items() if np.isfinite(y).any()]
     ncols = min(4, max(1, len(laws)))
     nrows = max(1, -(-len(laws) // ncols))
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.4 * nrows), squeeze=False)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.4 * nrows + 0.4), squeeze=False)
     for ax, law in zip(axes.flat, laws):
-        rows = rows_by_law[law]
-        x = np.array([float(r[oracle_score.ORACLE_DV]) for r in rows])
-        y = np.array([float(r[oracle_score.PENALTY]) for r in rows])
+        rows, y = rows_by_law[law], penalty[law]
         scored = np.isfinite(y)
+        x = np.array([float(r[oracle_score.ORACLE_DV]) for r in rows])
         captured = sum(r["outcome"] == "captured" for r in rows)
         ax.set_title(f"{law}: {int(scored.sum())} of {len(rows)} runs scored\n({len(rows) - captured} not captured "
                      "by the law: no penalty)", fontsize=8)
-        if not scored.any():
-            ax.axis("off")
-            continue
         handles = scatter_by_outcome(ax, x[scored], y[scored], np.array(classes_of(rows), dtype=object)[scored],
                                      Scale(oracle_score.PENALTY, y[scored]))
         line = ax.axhline(0.0, color="black", lw=0.8, zorder=1)
         below = int((y[scored] < 0.0).sum())
-        labels = {"the oracle (no penalty)" + (f"; {below} runs below it" if below else ""): line}
+        below_text = f"; {below} run{'s' if below > 1 else ''} below it" if below else ""
+        labels = {f"the oracle (no penalty){below_text}": line}
         labels.update({k: v for k, v in handles.items() if " the axis " in k})
         ax.legend(handles=list(labels.values()), labels=list(labels), fontsize=6, loc="best")
         ax.set_xlabel("the oracle's correction dv [m/s]", fontsize=8)
@@ -195,7 +195,11 @@ def penalty_plot(out_dir, rows_by_law, oracle) -> str:
     for ax in list(axes.flat)[len(laws):]:
         ax.axis("off")
     fig.suptitle(f"dv penalty against the oracle ({oracle}), run by run", fontsize=9)
-    fig.tight_layout()
+    unscored = [law for law in penalty if law not in laws]
+    if unscored:
+        fig.text(0.5, 0.01, f"no penalty to draw (no run captured by both the law and the oracle): "
+                 f"{', '.join(unscored)}", ha="center", fontsize=8)
+    fig.tight_layout(rect=(0, 0.04 if unscored else 0, 1, 1))
     fig.savefig(out_dir / "penalty.png", dpi=90)
     plt.close(fig)
     return "penalty.png"

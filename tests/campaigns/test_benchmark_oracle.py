@@ -94,7 +94,8 @@ def test_the_figure_draws_the_penalty_after_the_dv_and_the_total_heating_where_t
     assert [p[1] for p in benchmark_report.panels_of({"a": convective})][2:4] == ["peak heat rate", "heat load"]
     oracle = [{**r, "outcome.dv_total": 90.0 + 0.01 * r["run"]} for r in base]
     law = [{**r, "outcome": "skip_out"} if r["run"] < 4 else r for r in base]
-    rows = oracle_score.joined({"oracle": oracle, "mine": law}, "oracle")
+    never = [{**r, "outcome": "skip_out"} for r in base]
+    rows = oracle_score.joined({"oracle": oracle, "mine": law, "never": never}, "oracle")
     panels = benchmark_report.panels_of(rows, "oracle")
     assert [p[0] for p in panels][1:3] == ["outcome.dv_total", oracle_score.PENALTY]
     benchmark_report.plots(tmp_path, rows, 10e3, panels, "oracle")
@@ -102,7 +103,7 @@ def test_the_figure_draws_the_penalty_after_the_dv_and_the_total_heating_where_t
     assert penalty.ylabel == "dv penalty vs the oracle [m/s]" and heat.ylabel == "peak total heat rate [W/cm2]"
     assert outcome.xticklabels[0].startswith("oracle: bound")
     benchmark_report.penalty_plot(tmp_path, rows, "oracle")
-    (mine,) = drawn[(tmp_path / "penalty.png").resolve()].panels
+    (mine,) = drawn[(tmp_path / "penalty.png").resolve()].panels  # a law without a scored run has no panel
     assert mine.title == "mine: 16 of 20 runs scored\n(4 not captured by the law: no penalty)"
     assert mine.legend[0] == "the oracle (no penalty)"
 
