@@ -53,11 +53,12 @@ def _guard(function):
         return function()
     except BrokenPipeError:
         _closed_pipe()
-    except KeyboardInterrupt:  # Ctrl-C outside the deferred handling of runs and campaigns (loading, building)
+    except KeyboardInterrupt:  # SIGINT/SIGTERM outside a run's deferred handling, or while loading, building
         if _Context.debug:
             raise
-        click.echo("error: interrupted by SIGINT; the files written so far are kept", err=True)
-        sys.exit(128 + signal.SIGINT)
+        click.echo(f"error: interrupted by {interrupts.name() or 'SIGINT'}; the files written so far are kept",
+                   err=True)
+        sys.exit(128 + (interrupts.received() or signal.SIGINT))
     except AotvError as exc:
         if _Context.debug:
             raise
@@ -84,6 +85,9 @@ def _exit_status(status: str) -> int:
 def main(debug):
     """FMI co-simulation of aeroassisted orbital transfer and entry guidance."""
     _Context.debug = debug
+    # SIGTERM, like SIGINT, raises where the command is (once), so its cleanup runs: no child
+    # process or temporary folder is left; runs and campaigns defer both (`interrupts.deferred`)
+    click.get_current_context().with_resource(interrupts.raising_once())
 
 
 def _run_one(scenario, out_dir, plots=False):

@@ -9,6 +9,7 @@ A chunk is written as whole rows; if the write fails (disk full), the file is cu
 last whole row and the run fails with an `OutputError` naming the cause.
 """
 
+import contextlib
 import io
 import json
 import os
@@ -27,17 +28,34 @@ class OutputError(SimulationError):
                          entry="--out", fix="free space on that disk or choose another --out")
 
 
+def finite_or_text(value):
+    """`value` with every float that is not finite (inf, nan; numpy's too) replaced by its text
+    ("inf", "-inf", "nan"), inside dicts, lists and tuples: the result files' convention, as JSON
+    holds no such number (a campaign's statistics over values near the float range overflow)."""
+    if isinstance(value, dict):
+        return {k: finite_or_text(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_or_text(v) for v in value]
+    if isinstance(value, (float, np.floating)) and not np.isfinite(value):
+        return str(float(value))
+    return value
+
+
 def write_json_atomically(path: Path, data) -> None:
-    """Write JSON to path via a temporary file and a rename; on failure leave neither a
-    temporary file nor a changed `path`, and raise OutputError."""
+    """Write JSON to path via a temporary file and a rename (a number that is not finite written
+    as its text, `finite_or_text`); on failure leave neither a temporary file nor a changed
+    `path`, and raise OutputError."""
     tmp = path.with_name(path.name + ".part")
+    text = json.dumps(finite_or_text(data), indent=2, allow_nan=False, default=float) + "\n"
     try:
         with open(tmp, "w") as f:
-            f.write(json.dumps(data, indent=2, allow_nan=False, default=float) + "\n")
+            f.write(text)
         os.replace(tmp, path)
-    except OSError as exc:
+    except BaseException as exc:
         tmp.unlink(missing_ok=True)
-        raise OutputError(path, exc) from exc
+        if isinstance(exc, OSError):
+            raise OutputError(path, exc) from exc
+        raise
 
 
 class TimeSeriesWriter:
@@ -60,17 +78,20 @@ class TimeSeriesWriter:
         self._write((",".join(["time"] + self.columns) + "\n").encode())
 
     def _write(self, data: bytes):
-        """Append whole lines; on failure cut the file back to its last whole line, raise OutputError."""
+        """Append whole lines; on failure cut the file back to its last whole line (and go on
+        from there), raise OutputError. An interruption raised between two partial writes
+        (`interrupts.forcible`) cuts it back too, so the rows written after it stay whole lines."""
         try:
             view = memoryview(data)
             while view:
                 view = view[self.file.write(view):]
-        except OSError as exc:
-            try:
+        except BaseException as exc:
+            with contextlib.suppress(OSError):
                 self.file.truncate(self.whole)
-            except OSError:
-                pass
-            raise OutputError(self.part, exc) from exc
+                self.file.seek(self.whole)
+            if isinstance(exc, OSError):
+                raise OutputError(self.part, exc) from exc
+            raise
         self.whole += len(data)
 
     def __call__(self, times, rows):
