@@ -117,10 +117,18 @@ def fmu_source(ref) -> Path:
         except InputError as exc:
             raise InputError(exc.cause, file=str(ref), fix=fix) from None
         return path
-    if ref not in available_fmus():
-        raise BuildError(f"no FMU named {ref!r} in fmus_src",
-                         fix=f"use one of {', '.join(available_fmus())}, a .py FMU source or a .fmu file")
+    if ref not in available_fmus():  # a misspelt name is the user's input
+        raise InputError(f"no FMU named {ref!r} in this package", file=str(ref),
+                         fix=_unknown_name_fix(ref, "a .py FMU source"))
     return fmus_src_dir() / f"{ref}.py"
+
+
+def _unknown_name_fix(ref, also: str) -> str:
+    """The fix of an FMU name of no FMU of fmus_src: close names, `also`, the names."""
+    names = available_fmus()
+    close = difflib.get_close_matches(str(ref), names, n=3)
+    hint = f"did you mean {' or '.join(close)}? " if close else ""
+    return f"{hint}give {also} or one of {', '.join(names)}"
 
 
 def is_ours(source: Path) -> bool:
@@ -153,6 +161,8 @@ def source_hash(ref) -> str:
     digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n"
                             f"{fmu_native.fingerprint()}\n".encode())
     source = fmu_source(ref)
+    if module_name(source.stem) != source.stem:  # its module is renamed: not the FMU built before that was
+        digest.update(f"module {module_name(source.stem)}\n".encode())
     for rel, path in [(f"fmus_src/{source.name}", source),
                       *((p.relative_to(PACKAGE_DIR.parent).as_posix(), p) for p in _runtime_files())]:
         digest.update(f"{rel}\n".encode())
@@ -174,14 +184,10 @@ def built_fmu(ref, fmi_version=None) -> Path:
     name of fmus_src or of a user's FMU source `ref` (a path ending in .py), built into the cache
     when missing or stale (`ensure_fmu`; `functools.partial(built_fmu, fmi_version=3)` resolves to
     FMI 3.0 FMUs). InputError for a name fmus_src has not, naming close ones."""
-    if not is_source_path(ref):
-        names = available_fmus()
-        if ref not in names:
-            close = difflib.get_close_matches(ref, names, n=3)
-            hint = f"did you mean {' or '.join(close)}? " if close else ""
-            raise InputError(f"no FMU named {ref!r} in this package",
-                             fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
-                                 f"wiring file) or one of {', '.join(names)}")
+    if not is_source_path(ref) and ref not in available_fmus():
+        raise InputError(f"no FMU named {ref!r} in this package",
+                         fix=_unknown_name_fix(ref, "a path to a .fmu file or a .py FMU source (relative to the "
+                                                    "wiring file)"))
     return ensure_fmu(ref, fmi_version=fmi_version)
 
 
@@ -291,8 +297,16 @@ def runtime_package(digest: str) -> str:
 
 
 def slave_module(name: str, digest: str) -> str:
-    """Name of the module of fmus_src/<name>.py in the FMU built from sources of hash `digest`."""
-    return f"{name}_{digest[:16]}"
+    """Name of the module of fmus_src/<name>.py (or of a user's <name>.py) in the FMU built from
+    sources of hash `digest`: `module_name(name)` and the hash."""
+    return f"{module_name(name)}_{digest[:16]}"
+
+
+def module_name(stem: str) -> str:
+    """A module name for a source file named `stem`.py: every character that cannot stand in a
+    Python identifier replaced by "_" (a file law.v2.py would be imported as the module v2 of a
+    package law, and its FMU could never be instantiated)."""
+    return re.sub(r"\W", "_", stem)
 
 
 _TOP_IMPORT = re.compile(r"^(\s*(?:from|import)\s+)(aotv_cosim|pythonfmu)(?=[\s.])", re.MULTILINE)

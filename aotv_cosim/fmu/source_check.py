@@ -290,7 +290,7 @@ def load_module(source: Path):
     """Import `source` as a module of its own (not left in sys.modules): the module object."""
     import importlib.util
 
-    name = f"_aotv_fmu_source_{source.stem}"
+    name = "_aotv_fmu_source_" + re.sub(r"\W", "_", source.stem)  # a dot in the file name is no package
     spec = importlib.util.spec_from_file_location(name, source)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # dataclasses and pickling look the module up while it runs

@@ -129,6 +129,7 @@ def claimed(folder, names=RUN_OUTPUTS, adopt=False):
     the package's (a campaign resumed on the user's word: its rows are checked to be of the same
     campaign before any is rewritten)."""
     folder = Path(folder)
+    created = not os.path.lexists(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
@@ -170,8 +171,21 @@ def claimed(folder, names=RUN_OUTPUTS, adopt=False):
         finally:
             with contextlib.suppress(OSError):
                 _record(folder, _changed(folder, before))
+            if created:
+                _unused_removed(folder)
     finally:
         os.close(fd)
+
+
+def _unused_removed(folder: Path) -> None:
+    """Remove `folder`, made by this claim, if the command wrote nothing in it (refused or
+    interrupted before its first file): its record and lock go, the lock still held (a claim
+    made meanwhile has its own lock file there, and the folder then stays)."""
+    with contextlib.suppress(OSError):
+        if not written(folder) and set(os.listdir(folder)) <= {LOCK, RECORD}:
+            for name in (RECORD, LOCK):
+                (folder / name).unlink(missing_ok=True)
+            folder.rmdir()
 
 
 def remove_written(folder) -> list:
