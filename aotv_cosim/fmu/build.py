@@ -207,6 +207,9 @@ def ensure_fmu(ref, out_dir=None, fmi_version=None) -> Path:
     if target.is_file() and built_hash(target) == digest:
         return target
     found = check_source(source)  # a broken source is one error line, before any progress is shown
+    if found.kind == "pythonfmu3":  # named apart in its class statement: resolved_version did not see it
+        raise InputError(f"{found.class_name} is a pythonfmu3 class, which builds as FMI 3.0 only", file=str(source),
+                         fix="build it with --fmi 3, or write it on pythonfmu's Fmi2Slave")
     for hook in BUILD_HOOKS:
         hook(name, "start")
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -281,9 +284,9 @@ CONTRACT_HOOK = ("\n\nfrom aotv_cosim.fmu.slave import enforce_step_contract as 
 
 
 def _contract_hook(members: dict, source: Path, found) -> None:
-    """Hold the do_step of a plain pythonfmu class (not an AotvSlave, whose own definition does)
-    to the step contract in every host: `CONTRACT_HOOK` appended to its module in the FMU, after
-    the author's last line (their line numbers unchanged)."""
+    """Hold the do_step of a plain pythonfmu or pythonfmu3 class (not an AotvSlave, whose own
+    definition does) to the step contract in every host: `CONTRACT_HOOK` appended to its module in
+    the FMU, after the author's last line (their line numbers unchanged)."""
     if found.aotv_slave:
         return
     member = f"resources/{source.name}"
