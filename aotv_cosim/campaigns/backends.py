@@ -222,7 +222,7 @@ def _client(address: str):
 
     try:
         return Client(address)
-    except (OSError, ValueError, TypeError, RuntimeError) as exc:  # what distributed raises for an address
+    except (OSError, ValueError, TypeError, RuntimeError, MemoryError) as exc:  # what distributed raises for an address
         raise InputError(f"cannot connect to the Dask scheduler: {type(exc).__name__}: {exc}", file=address,
                          entry="--scheduler", fix="give tcp://HOST:PORT of a running scheduler "
                                                   "(e.g. tcp://127.0.0.1:8786)") from None
