@@ -78,7 +78,10 @@ def _no_duplicates(pairs):
 
 
 def strict_json(text: str):
-    """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys (ValueError)."""
+    """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys
+    (ValueError). A leading byte order mark (an editor's UTF-8 BOM, invisible to the user) is
+    skipped, as RFC 8259 allows."""
+    text = text[1:] if text.startswith("\ufeff") else text
     return json.loads(text, parse_constant=_refuse_constant, parse_float=_finite_float,
                       parse_int=_float_sized_int, object_pairs_hook=_no_duplicates)
 

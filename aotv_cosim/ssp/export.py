@@ -80,9 +80,10 @@ def check_replaceable(out: Path) -> None:
     """InputError unless `out` is free or an SSP archive this package wrote: the export overwrites
     only what it wrote (never the scenario itself given as -o, a user's file or symlink)."""
     out = Path(out)
-    if os.path.lexists(out) and not out.is_dir() and not written_here(out):
+    mine = out.is_symlink() or (out.is_file() and not written_here(out))  # a device or folder: `writable_file` says
+    if mine:
         raise InputError(f"{out.name} is there and was not written by aotv-cosim export-ssp: it would be overwritten",
-                         file=out, entry="-o", fix="move it away or choose another -o")
+                         file=out, entry="--out", fix="move it away or choose another -o")
 
 
 def _write_atomically(out: Path, members: dict) -> None:
