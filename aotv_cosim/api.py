@@ -15,6 +15,7 @@ notebook). Calls from several threads are made one at a time (`_ONE_AT_A_TIME`, 
 """
 
 import dataclasses
+import errno
 import os
 import tempfile
 import threading
@@ -77,7 +78,18 @@ def execute(options, **hooks):
         raise InputError(f"not an options object of aotv_cosim.options: {type(options).__name__}",
                          entry="options", fix="give RunOptions, CampaignOptions, ... (aotv_cosim.options)") from None
     with _ONE_AT_A_TIME:
-        return do(options, **hooks)
+        try:
+            return do(options, **hooks)
+        except OSError as exc:  # a result file a full or read-only disk cut (those written whole are kept whole)
+            if exc.errno not in _DISK_FULL:
+                raise
+            from aotv_cosim.output.run_files import OutputError
+
+            raise OutputError(Path(exc.filename or getattr(options, "out", None) or "."), exc) from exc
+
+
+_DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO)
+"""The errno of a write that the disk refused: a command meeting one ends with one line (exit 1)."""
 
 
 def run(scenario, *, set: Overrides = None, start: float | None = None, stop: float | None = None,

@@ -30,6 +30,7 @@ instead (`aotv_cosim.fmu.build_fmi3`, also for a pythonfmu3 class).
 """
 
 import ast
+import contextlib
 import difflib
 import functools
 import hashlib
@@ -219,11 +220,28 @@ def ensure_fmu(ref, out_dir=None, fmi_version=None) -> Path:
         staged = Path(tmp) / "final.fmu"
         _rewrite_reproducibly(members, staged, digest, source, found)
         _validate(staged, source)
-        os.replace(staged, target) if staged.stat().st_dev == target.parent.stat().st_dev \
-            else shutil.move(staged, target)
+        install(staged, target)
     for hook in BUILD_HOOKS:
         hook(name, "done")
     return target
+
+
+def install(staged: Path, target: Path) -> None:
+    """Put the built archive `staged` at `target` whole or not at all: renamed, or copied beside
+    `target` and renamed where they are on other disks. A disk that cannot take it (full, read-only)
+    leaves no partial file and is an InputError (as export-ssp's archive and an unwritable --out are)."""
+    part = target.with_name(f".{target.name}.{os.getpid()}.part")
+    try:
+        if staged.stat().st_dev == target.parent.stat().st_dev:
+            os.replace(staged, target)
+        else:
+            shutil.copyfile(staged, part)
+            os.replace(part, target)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            part.unlink(missing_ok=True)
+        raise InputError(f"cannot write {target.name}: {exc.strerror or exc}", file=target.parent, entry="--out",
+                    fix="free space on that disk or choose another --out (the FMU cache: $AOTV_COSIM_CACHE)") from None
 
 
 def _target(ref, out_dir=None):

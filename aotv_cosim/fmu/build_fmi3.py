@@ -28,9 +28,7 @@ cache, ``<name>.fmu`` in an output folder.
 import ast
 import hashlib
 import json
-import os
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -169,7 +167,7 @@ def ensure_fmu(ref, out_dir=None) -> Path:
         staged = Path(tmp) / "final.fmu"
         build.write_reproducible_zip(staged, _members(source, kind, found, Path(tmp), digest))
         _validate(staged, source)
-        os.replace(staged, path) if staged.stat().st_dev == path.parent.stat().st_dev else shutil.move(staged, path)
+        build.install(staged, path)
     for hook in build.BUILD_HOOKS:
         hook(source.stem, "done")
     return path

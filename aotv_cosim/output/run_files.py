@@ -41,21 +41,32 @@ def finite_or_text(value):
     return value
 
 
-def write_json_atomically(path: Path, data) -> None:
-    """Write JSON to path via a temporary file and a rename (a number that is not finite written
-    as its text, `finite_or_text`); on failure leave neither a temporary file nor a changed
-    `path`, and raise OutputError."""
+@contextlib.contextmanager
+def replaced_atomically(path: Path):
+    """Yield the temporary file `path`.part to write; it is renamed to `path` when the `with` ends,
+    and removed if it raises (a full disk, an interruption): no .part file stays and `path` is the
+    whole new file or as it was. An OSError (no space left, file too large) is raised as an
+    OutputError naming `path`."""
+    path = Path(path)
     tmp = path.with_name(path.name + ".part")
-    text = json.dumps(finite_or_text(data), indent=2, allow_nan=False, default=float) + "\n"
     try:
-        with open(tmp, "w") as f:
-            f.write(text)
+        yield tmp
         os.replace(tmp, path)
     except BaseException as exc:
-        tmp.unlink(missing_ok=True)
-        if isinstance(exc, OSError):
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
+        if isinstance(exc, OSError) and not isinstance(exc, OutputError):
             raise OutputError(path, exc) from exc
         raise
+
+
+def write_json_atomically(path: Path, data) -> None:
+    """Write JSON to path via a temporary file and a rename (`replaced_atomically`; a number that is
+    not finite written as its text, `finite_or_text`): on failure neither a temporary file nor a
+    changed `path`, and an OutputError."""
+    text = json.dumps(finite_or_text(data), indent=2, allow_nan=False, default=float) + "\n"
+    with replaced_atomically(path) as tmp, open(tmp, "w") as f:
+        f.write(text)
 
 
 class TimeSeriesWriter:
