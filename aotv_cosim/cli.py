@@ -567,11 +567,16 @@ def compare(comparison, out, no_plots):
     _guard(body)
 
 
-def _with_builds(load):
-    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
-    from aotv_cosim.fmu.build_progress import BuildProgress
+def _with_builds(load, out=None):
+    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources);
+    with `out`, the folder it writes claimed first (`output.outdir.claimed`: a file or device in
+    the way is one line, what it writes is recorded)."""
+    import contextlib
 
-    with BuildProgress():
+    from aotv_cosim.fmu.build_progress import BuildProgress
+    from aotv_cosim.output.outdir import claimed
+
+    with claimed(out, ()) if out is not None else contextlib.nullcontext(), BuildProgress():
         return load()
 
 
@@ -598,7 +603,8 @@ def figures_seed000(out, scenarios):
 
     def body():
         files, table = _with_builds(lambda: make_all(Path(out), scenarios,
-                                                     progress=lambda name: click.echo(f"flying {name}", err=True)))
+                                                     progress=lambda name: click.echo(f"flying {name}", err=True)),
+                                    out=out)
         click.echo(table)
         for path in files:
             click.echo(path)
@@ -615,7 +621,8 @@ def figures_seed001(out, scenario):
     from aotv_cosim.studies.plane_change_plots import make_all
 
     guided = scenario or _shipped("plane_change_mae_guided.json")
-    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided))])
+    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided),
+                                                                          out=out)])
 
 
 @figures.command("seed002")
@@ -643,7 +650,7 @@ def figures_seed002(run_dir, out, scenario):
             if summary.status != Status.COMPLETED:
                 raise SimulationError(f"the run failed: {summary.error}", file=str(loaded.path),
                                       fix=f"see {folder / 'summary.json'}")
-        for path in plot(folder, target):
+        for path in _with_builds(lambda: plot(folder, target), out=target or folder):
             click.echo(path)
 
     _guard(body)
@@ -656,4 +663,4 @@ def figures_seed003(out):
     (runs the scenarios/shuttle_*.json systems, about a minute)."""
     from aotv_cosim.studies.shuttle_report import main as report
 
-    _guard(lambda: _with_builds(lambda: report(out)))
+    _guard(lambda: _with_builds(lambda: report(out), out=out))

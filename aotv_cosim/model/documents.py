@@ -81,7 +81,7 @@ def strict_json(text: str):
     """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys
     (ValueError). A leading byte order mark (an editor's UTF-8 BOM, invisible to the user) is
     skipped, as RFC 8259 allows."""
-    text = text[1:] if text.startswith("\ufeff") else text
+    text = text.removeprefix("\ufeff")
     return json.loads(text, parse_constant=_refuse_constant, parse_float=_finite_float,
                       parse_int=_float_sized_int, object_pairs_hook=_no_duplicates)
 
