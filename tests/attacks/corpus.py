@@ -503,6 +503,24 @@ case("mc-refused-scheduler-leaves-no-folder", PATHS, "cli", ["montecarlo", "{MC}
                                                              "--scheduler", "inproc://x"], "bad",
      "cannot connect to the Dask scheduler", fmus=True,
      fixed="exit 3 (ValueError), a campaign folder with campaign.json and an empty rows.csv left")
+case("bench-refused-law-leaves-the-users-folder-clean", PATHS, "cli",
+     ["benchmark", "{SET}", "--runs", "1", "--out", "{home}", "--law", "{home}/laws.json"], "bad", "'laws'",
+     setup=text_file("laws.json", json.dumps({"components": {}})),
+     fixed="a .lock and a .aotv-written left in the user's folder by the refused command")
+case("figures-seed002-of-a-folder-that-is-no-run", PATHS, "cli", ["figures", "seed002", "{home}"], "bad",
+     "{home}/timeseries.csv", "cannot read the run's time series",
+     fixed="exit 3 (FileNotFoundError); its claim would have left a lock in the folder")
+case("figures-seed002-of-another-scenario", PATHS, "cli", ["figures", "seed002", "{home}/run"], "bad",
+     "the run recorded no vehicle.mach", fmus=True,
+     setup=run_first("run", "{N}", "--out", "{home}/run", "--stop", "1", "--no-plots"),
+     fixed="exit 3 (KeyError: 'vehicle.mach')")
+for figures_of in ("seed000", "seed001", "seed003"):
+    case(f"figures-{figures_of}-out-devnull", PATHS, "cli", ["figures", figures_of, "--out", "/dev/null"], "bad",
+         "/dev/null: --out", fixed="exit 3 (FileExistsError)")
+for name, setup, target in [("device", None, "/dev/zero"), ("fifo", fifo("pipe.json"), "{home}/pipe.json"),
+                            ("folder", None, "{home}")]:
+    case(f"describe-a-{name}", PATHS, "cli", ["describe", target], "bad", "is " if name != "folder" else "is a folder",
+         setup=setup, fixed="'file not found' (it was there)")
 case("resume-corrupt-campaign", PATHS, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--resume"], "bad",
      "corrupt campaign file", setup=text_file("out/campaign.json", "{not json"))
 case("resume-corrupt-rows", PATHS, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--resume"], "bad",
@@ -615,6 +633,13 @@ for name, pieces, fragments in [
 ]:
     case(f"law-{name}", SOURCES, "cli", ["build-fmus", "{home}/L.py", "--out", "{out}"], "bad", "{home}/L.py",
          *fragments, setup=law("L", **pieces))
+for name, pieces, fragment, fixed in [
+    ("start-nan", {"start": "float('nan')"}, "gain: start nan is not a number",
+     "built; its first run failed at another component's non-finite output (exit 1)"),
+    ("unit-none", {"unit": None}, "gain: unit None is not a text", "TypeError: object of type 'NoneType' has no len()"),
+    ("unit-number", {"unit": 5}, "gain: unit 5 is not a text", "TypeError: object of type 'int' has no len()")]:
+    case(f"law-{name}", SOURCES, "cli", ["build-fmus", "{home}/L.py", "--out", "{out}"], "bad", fragment,
+         setup=law("L", **pieces), fixed=fixed)
 for name, content, fragments in [
     ("utf16", law_source().encode("utf-16"), ["byte 0xff is not valid utf-8"]),
     ("latin1-comment", b"# caf\xe9\n" + law_source().encode(), ["line 1: SyntaxError: byte 0xe9 is not valid utf-8"]),
@@ -723,6 +748,42 @@ case("run-too-many-steps", RESOURCES, "cli", ["run", "{N}", "--out", "{out}", "-
      fmus=True)
 case("mc-step-limit-huge", RESOURCES, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}",
                                               "--step-timeout", "1e300", "--stop", "20"], "ok", fmus=True)
+
+def tmpfs(name: str, options: str):
+    """setup: home/<name>, a tmpfs mounted with `options` ("size=64k", "ro"), unmounted after the
+    case; the case is skipped where no tmpfs can be mounted (not root)."""
+    def setup(sb):
+        import subprocess
+
+        import pytest
+
+        mount = sb.home / name
+        mount.mkdir()
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(mount)], capture_output=True,
+                          check=False).returncode:
+            pytest.skip("cannot mount a tmpfs here")
+        sb.extra.setdefault("cleanups", []).append(
+            lambda: subprocess.run(["umount", str(mount)], check=True))
+    return setup
+
+
+for name, args, expect, fragment, fixed in [
+    ("build-fmus", ["build-fmus", "LiftActuator", "--out", "{home}/full/fmus"], "bad", "cannot write LiftActuator.fmu",
+     "exit 3 (OSError), a cut LiftActuator.fmu and .aotv-written.part left"),
+    ("montecarlo", ["montecarlo", "{MC}", "--runs", "50", "--out", "{home}/full/mc", "--keep-series"], "failed",
+     "No space left on device", "exit 3 (OSError from pyarrow), .aotv-written.part and series.parquet.part left"),
+    ("sweep", ["sweep", "{P}", "--grid", "vehicle.gamma0=-0.03:-0.01:300", "--out", "{home}/full/sw"], "failed",
+     "No space left on device", "exit 3 (OSError)"),
+    ("export-ssp", ["export-ssp", "{N}", "-o", "{home}/full/x.ssp"], "bad", "cannot write the archive", ""),
+    ("run", ["run", "{N}", "--out", "{home}/full/run", "--no-plots", "--step", "0.01"], "failed",
+     "No space left on device", "")]:
+    case(f"full-disk-{name}", RESOURCES, "cli", args, expect, fragment, setup=tmpfs("full", "size=192k"), fmus=True,
+         fixed=fixed)
+for name, args in [("build-fmus", ["build-fmus", "LiftActuator", "--out", "{home}/ro"]),
+                   ("montecarlo", ["montecarlo", "{MC}", "--runs", "2", "--out", "{home}/ro"]),
+                   ("export-ssp", ["export-ssp", "{N}", "-o", "{home}/ro/x.ssp"])]:
+    case(f"read-only-{name}", RESOURCES, "cli", args, "bad", "ead-only file system", setup=tmpfs("ro", "ro,size=64k"),
+         fmus=True)
 
 # Dask schedulers
 for name, address, fragments in [("refused", "tcp://127.0.0.1:1", ["cannot reach the Dask scheduler"]),
