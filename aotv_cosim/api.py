@@ -15,6 +15,7 @@ notebook). Calls from several threads are made one at a time (`_ONE_AT_A_TIME`, 
 """
 
 import dataclasses
+import errno
 import os
 import tempfile
 import threading
@@ -77,7 +78,18 @@ def execute(options, **hooks):
         raise InputError(f"not an options object of aotv_cosim.options: {type(options).__name__}",
                          entry="options", fix="give RunOptions, CampaignOptions, ... (aotv_cosim.options)") from None
     with _ONE_AT_A_TIME:
-        return do(options, **hooks)
+        try:
+            return do(options, **hooks)
+        except OSError as exc:  # a result file a full or read-only disk cut (those written whole are kept whole)
+            if exc.errno not in _DISK_FULL:
+                raise
+            from aotv_cosim.output.run_files import OutputError
+
+            raise OutputError(Path(exc.filename or getattr(options, "out", None) or "."), exc) from exc
+
+
+_DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO)
+"""The errno of a write that the disk refused: a command meeting one ends with one line (exit 1)."""
 
 
 def run(scenario, *, set: Overrides = None, start: float | None = None, stop: float | None = None,
@@ -403,14 +415,23 @@ def _do_describe(options: DescribeOptions):
 
 def _do_build(options: BuildOptions, progress=None) -> dict:
     """progress: a `fmu.build_progress.BuildProgress` told each FMU as it is ready (its `echo`)."""
+    import contextlib
+
     from aotv_cosim.fmu import build as fmu_build
+    from aotv_cosim.output.outdir import claimed
 
     refs = [str(s) for s in options.sources] or fmu_build.available_fmus()
+    names = {ref: fmu_build.fmu_source(ref).stem for ref in refs}  # an unknown name or source: refused first
     built = {}
-    for ref in refs:
-        built[fmu_build.fmu_source(ref).stem] = path = fmu_build.ensure_fmu(ref, options.out, options.fmi_version)
-        if progress is not None:
-            progress.echo(f"{fmu_build.fmu_source(ref).stem}: {path}")
+    with contextlib.ExitStack() as stack:
+        if options.out is not None:  # NAME.fmu there are written only over FMUs this package built
+            out = Path(options.out)
+            theirs = [f"{name}.fmu" for name in names.values() if fmu_build.built_hash(out / f"{name}.fmu") is None]
+            stack.enter_context(claimed(out, theirs))
+        for ref in refs:
+            built[names[ref]] = path = fmu_build.ensure_fmu(ref, options.out, options.fmi_version)
+            if progress is not None:
+                progress.echo(f"{names[ref]}: {path}")
     return built
 
 
@@ -460,8 +481,10 @@ def _do_export(options: ExportOptions, loaded=None) -> Path:
     """loaded(scenario): given the loaded scenario."""
     from aotv_cosim.paths import writable_file
     from aotv_cosim.simulation.loading import load_scenario
+    from aotv_cosim.ssp.export import check_replaceable
     from aotv_cosim.ssp.export import export_ssp as write_ssp
 
+    check_replaceable(options.out)  # before the FMUs are built for it
     scenario = load_scenario(options.scenario, options.overrides or None, options.step)
     if loaded is not None:
         loaded(scenario)
@@ -473,6 +496,7 @@ def _do_check(options: CheckOptions, each=None, run=None) -> list:
     the first runs, then run into OUT/<scenario>; returns [(scenario, RunSummary)], stopping after
     an interrupted run. each(k, total, scenario, summary): told each finished run; run(scenario,
     folder): makes a run and returns its RunSummary (default `output.runner.run_scenario`, no plots)."""
+    from aotv_cosim.output.outdir import written
     from aotv_cosim.output.runner import run_scenario
     from aotv_cosim.paths import writable_folder
     from aotv_cosim.simulation.loading import load_scenario
@@ -482,7 +506,11 @@ def _do_check(options: CheckOptions, each=None, run=None) -> list:
     for p in options.paths:
         if p.is_dir() and not os.access(p, os.R_OK | os.X_OK):
             raise InputError("cannot list the folder: permission denied", file=p, fix="give a folder you may read")
-        files += [f for f in sorted(p.glob("*.json")) if document_kind(f) == "scenario"] if p.is_dir() else [p]
+        if not p.is_dir():
+            files.append(p)
+            continue
+        ours = written(p)  # not the files a command wrote there (a run's summary.json)
+        files += [f for f in sorted(p.glob("*.json")) if f.name not in ours and document_kind(f) == "scenario"]
     loaded = [load_scenario(f, start=options.start, stop=options.stop) for f in files]
     candidates = [s for s in loaded if s.expectations or s.skipped]
     base = writable_folder(options.out or Path("results") / "check")

@@ -53,11 +53,12 @@ def _guard(function):
         return function()
     except BrokenPipeError:
         _closed_pipe()
-    except KeyboardInterrupt:  # Ctrl-C outside the deferred handling of runs and campaigns (loading, building)
+    except KeyboardInterrupt:  # SIGINT/SIGTERM outside a run's deferred handling, or while loading, building
         if _Context.debug:
             raise
-        click.echo("error: interrupted by SIGINT; the files written so far are kept", err=True)
-        sys.exit(128 + signal.SIGINT)
+        click.echo(f"error: interrupted by {interrupts.name() or 'SIGINT'}; the files written so far are kept",
+                   err=True)
+        sys.exit(128 + (interrupts.received() or signal.SIGINT))
     except AotvError as exc:
         if _Context.debug:
             raise
@@ -84,6 +85,9 @@ def _exit_status(status: str) -> int:
 def main(debug):
     """FMI co-simulation of aeroassisted orbital transfer and entry guidance."""
     _Context.debug = debug
+    # SIGTERM, like SIGINT, raises where the command is (once), so its cleanup runs: no child
+    # process or temporary folder is left; runs and campaigns defer both (`interrupts.deferred`)
+    click.get_current_context().with_resource(interrupts.raising_once())
 
 
 def _run_one(scenario, out_dir, plots=False):
@@ -594,11 +598,16 @@ def compare(comparison, out, no_plots):
     _guard(body)
 
 
-def _with_builds(load):
-    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources)."""
-    from aotv_cosim.fmu.build_progress import BuildProgress
+def _with_builds(load, out=None):
+    """load(), showing a message and a bar if it builds FMUs (the first use of changed sources);
+    with `out`, the folder it writes claimed first (`output.outdir.claimed`: a file or device in
+    the way is one line, what it writes is recorded)."""
+    import contextlib
 
-    with BuildProgress():
+    from aotv_cosim.fmu.build_progress import BuildProgress
+    from aotv_cosim.output.outdir import claimed
+
+    with claimed(out, ()) if out is not None else contextlib.nullcontext(), BuildProgress():
         return load()
 
 
@@ -625,7 +634,8 @@ def figures_seed000(out, scenarios):
 
     def body():
         files, table = _with_builds(lambda: make_all(Path(out), scenarios,
-                                                     progress=lambda name: click.echo(f"flying {name}", err=True)))
+                                                     progress=lambda name: click.echo(f"flying {name}", err=True)),
+                                    out=out)
         click.echo(table)
         for path in files:
             click.echo(path)
@@ -642,7 +652,8 @@ def figures_seed001(out, scenario):
     from aotv_cosim.studies.plane_change_plots import make_all
 
     guided = scenario or _shipped("plane_change_mae_guided.json")
-    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided))])
+    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided),
+                                                                          out=out)])
 
 
 @figures.command("seed002")
@@ -670,7 +681,7 @@ def figures_seed002(run_dir, out, scenario):
             if summary.status != Status.COMPLETED:
                 raise SimulationError(f"the run failed: {summary.error}", file=str(loaded.path),
                                       fix=f"see {folder / 'summary.json'}")
-        for path in plot(folder, target):
+        for path in _with_builds(lambda: plot(folder, target), out=target or folder):
             click.echo(path)
 
     _guard(body)
@@ -683,4 +694,4 @@ def figures_seed003(out):
     (runs the scenarios/shuttle_*.json systems, about a minute)."""
     from aotv_cosim.studies.shuttle_report import main as report
 
-    _guard(lambda: _with_builds(lambda: report(out)))
+    _guard(lambda: _with_builds(lambda: report(out), out=out))

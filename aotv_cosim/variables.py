@@ -76,7 +76,10 @@ def describe(target) -> pd.DataFrame:
         fmu = resolve_fmu(text, Path.cwd(), built_fmu, file=text, entry="FMU")
         return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS),
                             dtype=object)  # an Integer's start stays an integer beside Real ones
-    if not path.is_file():
+    if not path.is_file():  # a folder, a device or a FIFO is there, or nothing
+        from aotv_cosim.paths import regular_file
+
+        regular_file(path, what="wiring, scenario, .fmu or .py FMU source file")
         raise InputError("file not found", file=text,
                          fix="give an FMU name of this package, a .fmu, a .py FMU source, a wiring or a scenario file")
     if path.suffix != ".ssp" and "system" in _document(path):

@@ -24,7 +24,7 @@ from aotv_cosim.campaigns.orphans import terminate, worker_started
 from aotv_cosim.campaigns.pool import DEPTH, WorkerLost, WorkerPool
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
 from aotv_cosim.campaigns.worker import release, run_batch, run_one
-from aotv_cosim.errors import SimulationError
+from aotv_cosim.errors import InputError, SimulationError
 from aotv_cosim.options.checks import usable_cores
 from aotv_cosim.simulation import interrupts, watchdog
 from aotv_cosim.simulation.interrupts import Interrupted
@@ -150,7 +150,7 @@ class Dask:
 
         address = options.scheduler
         self.own = not isinstance(address, Client)
-        self.client = Client(address) if self.own else address
+        self.client = _client(address) if self.own else address
         self.options, self.columns, self.patience = options, columns, patience
         self.futures = {}
         self.alone_since = None
@@ -212,6 +212,20 @@ class Dask:
         self.futures.clear()
         if self.own:
             self.client.close()
+
+
+def _client(address: str):
+    """A distributed.Client of the scheduler at `address`; InputError when Dask cannot make one of
+    it (an address of a transport it has not, such as inproc:// of another process, or no scheduler
+    answering there)."""
+    from distributed import Client
+
+    try:
+        return Client(address)
+    except (OSError, ValueError, TypeError, RuntimeError, MemoryError) as exc:  # what distributed raises for an address
+        raise InputError(f"cannot connect to the Dask scheduler: {type(exc).__name__}: {exc}", file=address,
+                         entry="--scheduler", fix="give tcp://HOST:PORT of a running scheduler "
+                                                  "(e.g. tcp://127.0.0.1:8786)") from None
 
 
 def opened(options, step_limit, columns):

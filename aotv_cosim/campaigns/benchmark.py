@@ -105,8 +105,9 @@ def scenarios_of(set_dir) -> list:
         raise InputError("not found, neither here nor among the shipped sets", file=folder,
                          fix="give a folder of scenario files, one law each, one scenario file, or the name of "
                              f"a shipped set: {', '.join(shipped_sets())}")
-    else:
-        paths = sorted(folder.glob("*.json"))
+    else:  # not the files a command wrote there (a benchmark with --out SET: its scorecard.json)
+        ours = written(folder)
+        paths = [p for p in sorted(folder.glob("*.json")) if p.name not in ours]
     if not paths:
         raise InputError("the folder holds no scenario file", file=folder, fix="put one *.json scenario per law in it")
     for path in paths:

@@ -16,7 +16,7 @@ from aotv_cosim.model.scenario import Scenario
 from aotv_cosim.options import CampaignOptions
 from aotv_cosim.options.checks import check_fits
 from aotv_cosim.output import plausibility
-from aotv_cosim.output.outdir import claimed
+from aotv_cosim.output.outdir import claimed, remove_written
 from aotv_cosim.output.run_files import write_json_atomically
 from aotv_cosim.output.tracebacks import first_user_line
 from aotv_cosim.simulation import interrupts
@@ -57,8 +57,14 @@ def fly(ref: ScenarioRef, scenario: Scenario, options, out) -> dict:
                          fix='add "dispersions": {"component.parameter": {"distribution": ...}}')
     names = columns(scenario)
     check_fits(options.runs, len(names), ref.path)
-    with interrupts.deferred(), claimed(out, CAMPAIGN_FILES, adopt=options.resume):
-        return _campaign(ref, scenario, Path(out), options)
+    created = not Path(out).exists()
+    try:
+        with interrupts.deferred(), claimed(out, CAMPAIGN_FILES, adopt=options.resume):
+            return _campaign(ref, scenario, Path(out), options)
+    except InputError:
+        if created:  # refused before any run (an unusable scheduler, a report column): leave no folder
+            remove_written(out)
+        raise
 
 
 class Failures:

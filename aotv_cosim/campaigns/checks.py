@@ -72,7 +72,30 @@ def check_reachable(address: str) -> None:
         raise InputError("cannot read the scheduler address", file=address, entry="--scheduler",
                          fix="give tcp://HOST:PORT (e.g. tcp://127.0.0.1:8786)")
     try:
-        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S).close()
+        connection = socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S)
     except OSError as exc:
         raise InputError(f"cannot reach the Dask scheduler: {exc.strerror or exc}", file=address,
                          entry="--scheduler", fix="start the scheduler there, or correct --scheduler") from None
+    with connection:
+        if parts.scheme == "tcp" and not _greets_as_dask(connection):
+            raise InputError("the server there does not answer as a Dask scheduler (its dashboard, a web server?)",
+                             file=address, entry="--scheduler",
+                             fix="give the scheduler's address (tcp://HOST:8786 by default; the dashboard is :8787)")
+
+
+def _greets_as_dask(connection) -> bool:
+    """True if the peer of the open TCP `connection` begins as a Dask scheduler does: its
+    handshake, sent at once, a message whose first 8 bytes are its small length (little-endian).
+    A web server (a scheduler's dashboard) says nothing until asked, an SSH server says text: Dask's
+    client then waits forever for the handshake, or allocates a 'length' read from the text."""
+    connection.settimeout(CONNECT_TIMEOUT_S)
+    data = b""
+    try:
+        while len(data) < 8:
+            chunk = connection.recv(8 - len(data))
+            if not chunk:
+                break
+            data += chunk
+    except OSError:  # socket.timeout among them: no greeting
+        return False
+    return len(data) == 8 and 0 < int.from_bytes(data, "little") < 2**20

@@ -9,6 +9,7 @@ speed and against time, in km and km/s.
 
 from pathlib import Path
 
+from aotv_cosim.output.run_files import replaced_atomically
 from aotv_cosim.output.series import TIME_UNIT
 
 
@@ -35,9 +36,8 @@ def write_series(out: Path, series: dict, scenario, ref, options, make_plots) ->
     units = {"run": "", "time": TIME_UNIT, **{s: scenario.system.variable(s).unit for s in signals}}
     schema = pa.schema([pa.field(n, pa.int64() if n == "run" else pa.float64(), metadata={b"unit": units[n].encode()})
                         for n in columns])
-    tmp = path.with_name(path.name + ".part")
-    pq.write_table(pa.table(columns, schema=schema), tmp)
-    tmp.replace(path)
+    with replaced_atomically(path) as tmp:
+        pq.write_table(pa.table(columns, schema=schema), tmp)
     vehicle = scenario.outcome.vehicle if scenario.outcome is not None else "vehicle"
     if not make_plots or not {f"{vehicle}.h", f"{vehicle}.v"} <= set(signals):
         return []

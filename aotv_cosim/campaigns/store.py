@@ -8,10 +8,10 @@ the rows belong to (scenario, seed, runs, dispersions); --resume refuses a diffe
 import csv
 import json
 import math
-import os
 from pathlib import Path
 
 from aotv_cosim.errors import InputError
+from aotv_cosim.output.run_files import OutputError, replaced_atomically
 
 TEXT = ("law", "status", "error", "outcome", "outcome.reason")
 INTEGER = ("run", "steps")
@@ -84,13 +84,11 @@ class RowStore:
         return rows
 
     def _rewrite(self, rows, path):
-        tmp = path.with_name(path.name + ".part")
-        with open(tmp, "w", newline="") as f:
+        with replaced_atomically(path) as tmp, open(tmp, "w", newline="") as f:
             writer = csv.writer(f, lineterminator="\n")
             writer.writerow(self.columns)
             for row in rows:
                 writer.writerow([csv_cell(n, row[n]) for n in self.columns])
-        os.replace(tmp, path)
 
     def done(self) -> set:
         return set(self.rows)
@@ -98,12 +96,18 @@ class RowStore:
     def add(self, row: dict):
         """Append one finished run (flushed at once: an interruption keeps it)."""
         self.rows[row["run"]] = row
-        self.writer.writerow([csv_cell(n, row[n]) for n in self.columns])
-        self.file.flush()
+        try:
+            self.writer.writerow([csv_cell(n, row[n]) for n in self.columns])
+            self.file.flush()
+        except OSError as exc:  # a full disk: the rows are kept in memory until then, rows.csv is rewritten whole
+            raise OutputError(self.csv, exc) from exc
 
     def close(self) -> list:
         """Rewrite rows.csv sorted by run, write rows.parquet; returns the sorted rows."""
-        self.file.close()
+        try:
+            self.file.close()
+        except OSError:  # what the last flush could not write is rewritten below
+            pass
         rows = [self.rows[k] for k in sorted(self.rows)]
         self._rewrite(rows, self.csv)
         write_parquet(rows, self.columns, self.out / "rows.parquet", self.units)
@@ -120,6 +124,5 @@ def write_parquet(rows, columns, path: Path, units=None):
     data = {n: [(None if n in INTEGER and isinstance(r[n], float) else r[n]) for r in rows] for n in columns}
     schema = pa.schema([pa.field(n, types[n], metadata={b"unit": units.get(n, "").encode()}) for n in columns])
     table = pa.table({n: pa.array(data[n], type=types[n]) for n in columns}, schema=schema)
-    tmp = path.with_name(path.name + ".part")
-    pq.write_table(table, tmp)
-    os.replace(tmp, path)
+    with replaced_atomically(path) as tmp:
+        pq.write_table(table, tmp)

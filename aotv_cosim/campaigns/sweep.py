@@ -78,13 +78,13 @@ def _fly(ref, scenario, options, points, names, parameters, keep):
     backend."""
     t0 = time.perf_counter()
     found = {}
+    backend = backends.opened(options, options.step_limit(scenario), names)  # refused (a scheduler) before a bar
     bar = None
     if options.progress:
         from tqdm import tqdm
 
         bar = tqdm(total=len(points), unit="run", desc="sweep")
     status = Status.COMPLETED
-    backend = backends.opened(options, options.step_limit(scenario), names)
     interrupted = True
     try:
         for rows in backends.stream(backend, ref, enumerate(points), len(points)):

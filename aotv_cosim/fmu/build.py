@@ -30,6 +30,7 @@ instead (`aotv_cosim.fmu.build_fmi3`, also for a pythonfmu3 class).
 """
 
 import ast
+import contextlib
 import difflib
 import functools
 import hashlib
@@ -117,10 +118,18 @@ def fmu_source(ref) -> Path:
         except InputError as exc:
             raise InputError(exc.cause, file=str(ref), fix=fix) from None
         return path
-    if ref not in available_fmus():
-        raise BuildError(f"no FMU named {ref!r} in fmus_src",
-                         fix=f"use one of {', '.join(available_fmus())}, a .py FMU source or a .fmu file")
+    if ref not in available_fmus():  # a misspelt name is the user's input
+        raise InputError(f"no FMU named {ref!r} in this package", file=str(ref),
+                         fix=_unknown_name_fix(ref, "a .py FMU source"))
     return fmus_src_dir() / f"{ref}.py"
+
+
+def _unknown_name_fix(ref, also: str) -> str:
+    """The fix of an FMU name of no FMU of fmus_src: close names, `also`, the names."""
+    names = available_fmus()
+    close = difflib.get_close_matches(str(ref), names, n=3)
+    hint = f"did you mean {' or '.join(close)}? " if close else ""
+    return f"{hint}give {also} or one of {', '.join(names)}"
 
 
 def is_ours(source: Path) -> bool:
@@ -153,6 +162,8 @@ def source_hash(ref) -> str:
     digest = hashlib.sha256(f"pythonfmu {pythonfmu.__version__}\nformat {BUILD_FORMAT}\n"
                             f"{fmu_native.fingerprint()}\n".encode())
     source = fmu_source(ref)
+    if module_name(source.stem) != source.stem:  # its module is renamed: not the FMU built before that was
+        digest.update(f"module {module_name(source.stem)}\n".encode())
     for rel, path in [(f"fmus_src/{source.name}", source),
                       *((p.relative_to(PACKAGE_DIR.parent).as_posix(), p) for p in _runtime_files())]:
         digest.update(f"{rel}\n".encode())
@@ -174,14 +185,10 @@ def built_fmu(ref, fmi_version=None) -> Path:
     name of fmus_src or of a user's FMU source `ref` (a path ending in .py), built into the cache
     when missing or stale (`ensure_fmu`; `functools.partial(built_fmu, fmi_version=3)` resolves to
     FMI 3.0 FMUs). InputError for a name fmus_src has not, naming close ones."""
-    if not is_source_path(ref):
-        names = available_fmus()
-        if ref not in names:
-            close = difflib.get_close_matches(ref, names, n=3)
-            hint = f"did you mean {' or '.join(close)}? " if close else ""
-            raise InputError(f"no FMU named {ref!r} in this package",
-                             fix=f"{hint}give a path to a .fmu file or a .py FMU source (relative to the "
-                                 f"wiring file) or one of {', '.join(names)}")
+    if not is_source_path(ref) and ref not in available_fmus():
+        raise InputError(f"no FMU named {ref!r} in this package",
+                         fix=_unknown_name_fix(ref, "a path to a .fmu file or a .py FMU source (relative to the "
+                                                    "wiring file)"))
     return ensure_fmu(ref, fmi_version=fmi_version)
 
 
@@ -201,6 +208,9 @@ def ensure_fmu(ref, out_dir=None, fmi_version=None) -> Path:
     if target.is_file() and built_hash(target) == digest:
         return target
     found = check_source(source)  # a broken source is one error line, before any progress is shown
+    if found.kind == "pythonfmu3":  # named apart in its class statement: resolved_version did not see it
+        raise InputError(f"{found.class_name} is a pythonfmu3 class, which builds as FMI 3.0 only", file=str(source),
+                         fix="build it with --fmi 3, or write it on pythonfmu's Fmi2Slave")
     for hook in BUILD_HOOKS:
         hook(name, "start")
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -210,11 +220,28 @@ def ensure_fmu(ref, out_dir=None, fmi_version=None) -> Path:
         staged = Path(tmp) / "final.fmu"
         _rewrite_reproducibly(members, staged, digest, source, found)
         _validate(staged, source)
-        os.replace(staged, target) if staged.stat().st_dev == target.parent.stat().st_dev \
-            else shutil.move(staged, target)
+        install(staged, target)
     for hook in BUILD_HOOKS:
         hook(name, "done")
     return target
+
+
+def install(staged: Path, target: Path) -> None:
+    """Put the built archive `staged` at `target` whole or not at all: renamed, or copied beside
+    `target` and renamed where they are on other disks. A disk that cannot take it (full, read-only)
+    leaves no partial file and is an InputError (as export-ssp's archive and an unwritable --out are)."""
+    part = target.with_name(f".{target.name}.{os.getpid()}.part")
+    try:
+        if staged.stat().st_dev == target.parent.stat().st_dev:
+            os.replace(staged, target)
+        else:
+            shutil.copyfile(staged, part)
+            os.replace(part, target)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            part.unlink(missing_ok=True)
+        raise InputError(f"cannot write {target.name}: {exc.strerror or exc}", file=target.parent, entry="--out",
+                    fix="free space on that disk or choose another --out (the FMU cache: $AOTV_COSIM_CACHE)") from None
 
 
 def _target(ref, out_dir=None):
@@ -275,9 +302,9 @@ CONTRACT_HOOK = ("\n\nfrom aotv_cosim.fmu.slave import enforce_step_contract as 
 
 
 def _contract_hook(members: dict, source: Path, found) -> None:
-    """Hold the do_step of a plain pythonfmu class (not an AotvSlave, whose own definition does)
-    to the step contract in every host: `CONTRACT_HOOK` appended to its module in the FMU, after
-    the author's last line (their line numbers unchanged)."""
+    """Hold the do_step of a plain pythonfmu or pythonfmu3 class (not an AotvSlave, whose own
+    definition does) to the step contract in every host: `CONTRACT_HOOK` appended to its module in
+    the FMU, after the author's last line (their line numbers unchanged)."""
     if found.aotv_slave:
         return
     member = f"resources/{source.name}"
@@ -291,8 +318,16 @@ def runtime_package(digest: str) -> str:
 
 
 def slave_module(name: str, digest: str) -> str:
-    """Name of the module of fmus_src/<name>.py in the FMU built from sources of hash `digest`."""
-    return f"{name}_{digest[:16]}"
+    """Name of the module of fmus_src/<name>.py (or of a user's <name>.py) in the FMU built from
+    sources of hash `digest`: `module_name(name)` and the hash."""
+    return f"{module_name(name)}_{digest[:16]}"
+
+
+def module_name(stem: str) -> str:
+    """A module name for a source file named `stem`.py: every character that cannot stand in a
+    Python identifier replaced by "_" (a file law.v2.py would be imported as the module v2 of a
+    package law, and its FMU could never be instantiated)."""
+    return re.sub(r"\W", "_", stem)
 
 
 _TOP_IMPORT = re.compile(r"^(\s*(?:from|import)\s+)(aotv_cosim|pythonfmu)(?=[\s.])", re.MULTILINE)

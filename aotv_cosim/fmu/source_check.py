@@ -14,7 +14,9 @@ the source), reads no standard input, and writes its output to a file of at most
 bytes whose tail is quoted when it ends without a report.
 
 The rules the class is held to (one FMU class per file, the one the FMU's runtime will
-instantiate) are checked in the child (`fmu_class`).
+instantiate) are checked in the child (`fmu_class`). A pythonfmu3 class (Fmi3SlaveBase) is found
+and described the same way (`SourceClass.kind`): its FMI 3.0 FMU is then assembled from what the
+child reported, as for a pythonfmu class, so no build imports a user's source in its own process.
 """
 
 import contextlib
@@ -52,14 +54,18 @@ class SourceClass:
     """What the child found in an FMU source."""
 
     class_name: str
-    """The FMU class, the one concrete Fmi2Slave subclass the source defines."""
+    """The FMU class, the one concrete Fmi2Slave (or pythonfmu3 Fmi3SlaveBase) subclass the source
+    defines."""
     model_identifier: str
     """Its modelName (pythonfmu's modelIdentifier: the binary's name)."""
     aotv_slave: bool
     """True if it derives from AotvSlave: it saves its FMU state and holds its do_step to the
     step contract itself."""
     model_description: str
-    """pythonfmu's modelDescription of an instance (XML text), before the build completes it."""
+    """pythonfmu's (or pythonfmu3's) modelDescription of an instance (XML text), before the build
+    completes it."""
+    kind: str = "pythonfmu"
+    """"pythonfmu" for an Fmi2Slave class, "pythonfmu3" for an Fmi3SlaveBase one."""
 
 
 def inspect_source(source: Path, ours: bool = False) -> SourceClass:
@@ -283,14 +289,15 @@ def _inspect(source: Path) -> dict:
     from aotv_cosim.fmu.slave import AotvSlave
 
     return {"class_name": cls.__name__, "model_identifier": str(name), "aotv_slave": issubclass(cls, AotvSlave),
-            "model_description": tostring(model_description, encoding="unicode")}
+            "model_description": tostring(model_description, encoding="unicode"),
+            "kind": "pythonfmu3" if _fmi3_base() is not None and issubclass(cls, _fmi3_base()) else "pythonfmu"}
 
 
 def load_module(source: Path):
     """Import `source` as a module of its own (not left in sys.modules): the module object."""
     import importlib.util
 
-    name = f"_aotv_fmu_source_{source.stem}"
+    name = "_aotv_fmu_source_" + re.sub(r"\W", "_", source.stem)  # a dot in the file name is no package
     spec = importlib.util.spec_from_file_location(name, source)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # dataclasses and pickling look the module up while it runs
@@ -301,22 +308,33 @@ def load_module(source: Path):
     return module
 
 
+def _fmi3_base():
+    """pythonfmu3's Fmi3SlaveBase, or None where pythonfmu3 is not installed."""
+    try:
+        from pythonfmu3 import Fmi3SlaveBase
+    except ImportError:
+        return None
+    return Fmi3SlaveBase
+
+
 def fmu_class(source: Path) -> type:
-    """Import `source` (`load_module`) and return its FMU class: the one concrete Fmi2Slave
-    subclass it defines, which must also be the class the FMU's runtime instantiates (the C
-    wrapper and the direct calls take the class of the module with Fmi2Slave deepest in its
-    method resolution order). _SourceProblem for none, several, or another class taken."""
+    """Import `source` (`load_module`) and return its FMU class: the one concrete Fmi2Slave (or
+    pythonfmu3 Fmi3SlaveBase) subclass it defines, which must also be the class the FMU's runtime
+    instantiates (the C wrappers and the direct calls take the class of the module with Fmi2Slave,
+    or for FMI 3.0 Fmi3SlaveBase, deepest in its method resolution order). _SourceProblem for
+    none, several, or another class taken."""
     import inspect
 
     from pythonfmu import Fmi2Slave
 
+    bases = tuple(b for b in (Fmi2Slave, _fmi3_base()) if b is not None)
     module = load_module(source)
-    defined = [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, Fmi2Slave)
-               and c.__module__ == module.__name__ and not inspect.isabstract(c)]
+    defined = [c for c in vars(module).values() if inspect.isclass(c) and issubclass(c, bases)
+               and c not in bases and c.__module__ == module.__name__ and not inspect.isabstract(c)]
     if not defined:
         raise _SourceProblem("defines no concrete FMU class", None, entry="(top level)",
-                             fix="define one subclass of aotv_cosim.laws.AotvSlave (or of pythonfmu.Fmi2Slave) with "
-                             "do_step and every abstract method")
+                             fix="define one subclass of aotv_cosim.laws.AotvSlave (or of pythonfmu.Fmi2Slave, or "
+                             "pythonfmu3's Fmi3Slave) with do_step and every abstract method")
     if len(defined) > 1:
         at = _class_lines(source)
         lines = ", ".join(f"{c.__name__} (line {at[c.__name__]})" if c.__name__ in at else c.__name__
@@ -343,12 +361,13 @@ def _class_lines(source: Path) -> dict:
 
 def _runtime_class(module) -> type:
     """The class the FMU's runtime takes from `module`: the first one with the class named
-    Fmi2Slave deepest in its method resolution order (fmi2_lean.c, direct_instance.slave_class)."""
+    Fmi2Slave (or, as the FMI 3.0 wrapper also looks, Fmi3SlaveBase) deepest in its method
+    resolution order (fmi_core.c, direct_instance.slave_class)."""
     best, deepest = None, 0
     for value in vars(module).values():
         if isinstance(value, type):
             depth = next((i for i in range(len(value.__mro__) - 1, 0, -1)
-                          if value.__mro__[i].__name__ == "Fmi2Slave"), 0)
+                          if value.__mro__[i].__name__ in ("Fmi2Slave", "Fmi3SlaveBase")), 0)
             if depth > deepest:
                 best, deepest = value, depth
     return best

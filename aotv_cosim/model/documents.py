@@ -78,7 +78,10 @@ def _no_duplicates(pairs):
 
 
 def strict_json(text: str):
-    """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys (ValueError)."""
+    """json.loads refusing NaN, Infinity, numbers beyond the float range and duplicate keys
+    (ValueError). A leading byte order mark (an editor's UTF-8 BOM, invisible to the user) is
+    skipped, as RFC 8259 allows."""
+    text = text.removeprefix("\ufeff")
     return json.loads(text, parse_constant=_refuse_constant, parse_float=_finite_float,
                       parse_int=_float_sized_int, object_pairs_hook=_no_duplicates)
 
@@ -137,18 +140,23 @@ def json_value(text: str):
     """A --set value: JSON if it parses (numbers, true/false), else the plain string."""
     try:
         return strict_json(text)
-    except ValueError:
+    except (ValueError, RecursionError):  # not JSON, or nested beyond the parser's depth: a text
         return text
 
 
 def parse_sets(pairs, origin="--set", file=None) -> dict:
     """'comp.var=VALUE' strings -> {'comp.var': value} (VALUE parsed as JSON when it can be);
-    file: the scenario the values are for, named in the error."""
+    file: the scenario the values are for, named in the error. A name given twice is refused
+    (which value was meant?)."""
     values = {}
     for text in pairs or ():
         if "=" not in text or "." not in text.split("=", 1)[0]:
             raise InputError(f"cannot read {text!r}: no component.variable before an '='", file=file,
                              entry=origin, fix="write component.variable=value")
         key, raw = text.split("=", 1)
-        values[key.strip()] = json_value(raw.strip())
+        key = key.strip()
+        if key in values:
+            raise InputError(f"{key} is given twice", file=file, entry=origin,
+                             fix=f"give each value once (keep one {origin} {key}=...)")
+        values[key] = json_value(raw.strip())
     return values

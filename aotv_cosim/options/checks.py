@@ -11,9 +11,11 @@ class's `_check_together` for rules between fields.
 """
 
 import math
+import numbers
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from collections.abc import Set as AbstractSet
 from dataclasses import fields
 from pathlib import Path
 
@@ -103,17 +105,32 @@ def _shown(value) -> str:
 
 
 def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
+    """A real number (int, float, or numpy's scalars of them), not a bool."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def _is_integer(value) -> bool:
+    """An integer (int, or numpy's integer scalars), not a bool."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _as_float(value):
+    """`value` (a real number) as a float; None for an integer beyond the float range."""
+    try:
+        return float(value)
+    except OverflowError:
+        return None
 
 
 def count(low: int, high, what: str, fix: str = "") -> Callable:
     """An integer from `low` to `high` (a callable giving the bound when it depends on the
-    machine); a bool or text is refused."""
+    machine), returned as an int (numpy's integers too); a bool, a float or text is refused."""
     def check(value, where: Where):
         top = high() if callable(high) else high
-        if not isinstance(value, int) or isinstance(value, bool):
+        if not _is_integer(value):
             raise where.refuse(f"{what} must be an integer, got {_shown(value)}",
                                f"give an integer from {low} to {top}")
+        value = int(value)
         if not low <= value <= top:
             raise where.refuse(f"{what} {value} is outside {low}..{top}", fix or f"give an integer from {low} to {top}")
         return value
@@ -146,21 +163,40 @@ def number(*, low=-math.inf, high=math.inf, low_open=False, optional=False, unit
             (" (or leave it out)" if optional else "")
         if not _is_number(value):
             raise where.refuse(f"{what} must be a number, got {_shown(value)}", fix)
-        value = float(value)
-        if not math.isfinite(value) or value < low or (low_open and value == low) or value > high:
-            raise where.refuse(f"{what} {value!r}{' ' + unit if unit else ''} is not a finite number "
+        number = _as_float(value)
+        if number is None or not math.isfinite(number) or number < low or (low_open and number == low) \
+                or number > high:
+            shown = repr(number) if number is not None else _shown(value)
+            raise where.refuse(f"{what} {shown}{' ' + unit if unit else ''} is not a finite number "
                                f"{bounds}".rstrip(), fix)
-        return value
+        return number
     return check
 
 
-def seconds(optional=True, what="the time limit") -> Callable:
-    """A positive finite duration, s (None: not given)."""
-    return number(low=0.0, low_open=True, optional=optional, unit="s", what=what)
+def step_limit(value, where: Where):
+    """A step's wall-clock limit, s: None (not given) or a finite number of at least
+    `watchdog.MIN_STEP_TIMEOUT` (a smaller one could not be met: the watchdog would not see it)."""
+    from aotv_cosim.simulation.watchdog import MIN_STEP_TIMEOUT
+
+    return number(low=MIN_STEP_TIMEOUT, optional=True, unit="s", what="the time limit")(value, where)
+
+
+MIN_MAX_RSS_MIB = 64.0
+"""Smallest memory limit of a worker, MiB: a worker forked from the command line holds about 80 MiB
+(Python, numpy, scipy; 77 MiB measured) before its first FMU, so a smaller limit fails every run:
+`--max-rss 2` meant for 2 GiB is refused, not flown."""
+
+
+def memory_limit(value, where: Where):
+    """A worker's resident memory limit, MiB: None (no limit) or a finite number of at least
+    MIN_MAX_RSS_MIB."""
+    return number(low=MIN_MAX_RSS_MIB, optional=True, unit="MiB", what="the memory limit")(value, where)
 
 
 def flag(value, where: Where) -> bool:
-    """True or False (not 1, not "yes")."""
+    """True or False (numpy's too; not 1, not "yes")."""
+    if type(value).__module__ == "numpy" and type(value).__name__ == "bool_":
+        value = bool(value)
     if not isinstance(value, bool):
         raise where.refuse(f"expected True or False, got {_shown(value)}", "give True or False")
     return value
@@ -242,11 +278,27 @@ def overrides(value, where: Where) -> tuple:
         if not isinstance(name, str) or not _SIGNAL.match(name):
             raise where.refuse(f"cannot read the name {_shown(name)}: no component.variable",
                                "name a value component.variable (e.g. vehicle.h0)")
-        if not (isinstance(item, (bool, int, str)) or (isinstance(item, float) and math.isfinite(item))):
+        plain = _plain_value(item)
+        if plain is None:
             raise where.refuse(f"{name}: the value {_shown(item)} is not a finite number, a Boolean or a text",
                                "give a finite number in SI, true/false or a text")
-        pairs.append((name, item))
+        pairs.append((name, plain))
     return tuple(pairs)
+
+
+def _plain_value(item):
+    """A --set value as bool, int, float or str (numpy's scalars converted); None for another
+    type, a number that is not finite, or an integer beyond the float range."""
+    if type(item).__module__ == "numpy" and type(item).__name__ == "bool_":
+        return bool(item)
+    if isinstance(item, (bool, str)):
+        return item
+    if _is_integer(item):
+        return int(item) if _as_float(item) is not None else None
+    if _is_number(item):
+        value = _as_float(item)
+        return value if value is not None and math.isfinite(value) else None
+    return None
 
 
 def formats(value, where: Where) -> tuple:
@@ -347,7 +399,7 @@ def bracket(value, where: Where) -> tuple:
     """The corridor's (steep, shallow) entry flight-path angles, rad: two finite numbers, both in
     (-pi/2, 0) (an entry descends and cannot pass the vertical), steep < shallow."""
     fix = "give STEEP SHALLOW with -pi/2 < STEEP < SHALLOW < 0 (rad), e.g. --bracket -0.08 -0.002"
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2 \
+    if isinstance(value, (str, bytes, Mapping, AbstractSet)) or not hasattr(value, "__len__") or len(value) != 2 \
             or not all(map(_is_number, value)):
         raise where.refuse(f"expected two numbers (steep, shallow), got {_shown(value)}", fix)
     steep, shallow = map(float, value)

@@ -26,7 +26,6 @@ from aotv_cosim.options.checks import (
     paths,
     rule,
     scheduler,
-    seconds,
     workers,
 )
 from aotv_cosim.simulation.master import FMI_CALLS
@@ -92,7 +91,7 @@ class RunOptions(_Scenario):
     """Time series files: "csv" and/or "parquet"."""
     plots: bool = field(default=False, metadata=rule(flag, "--no-plots"))
     """Draw the PNG plots into `out` (needs `out`)."""
-    step_timeout: float | None = field(default=None, metadata=rule(seconds(), "--step-timeout"))
+    step_timeout: float | None = field(default=None, metadata=rule(checks.step_limit, "--step-timeout"))
     """Wall-clock limit of one communication step, s (None: the scenario's, else none)."""
     fmi_calls: str | None = field(default=None, metadata=rule(_FMI_CALLS, "--fmi-calls"))
     """"direct" (this package's FMUs called in this interpreter; others through C) or "c" (every FMU
@@ -202,10 +201,9 @@ class RunsOptions(_Scenario):
     scheduler: object = field(default=None, metadata=rule(scheduler, "--scheduler"))
     """None for local workers, else a Dask scheduler address or (from Python) a distributed.Client;
     a Client does not travel to the workers (`__getstate__`)."""
-    step_timeout: float | None = field(default=None, metadata=rule(seconds(), "--step-timeout"))
+    step_timeout: float | None = field(default=None, metadata=rule(checks.step_limit, "--step-timeout"))
     """Wall-clock limit of one step, s (None: the scenario's step_timeout, else 60 s)."""
-    max_rss: float | None = field(default=DEFAULT_MAX_RSS_MIB, metadata=rule(number(low=0.0, low_open=True, optional=True,
-                                                                        unit="MiB", what="the memory limit"), "--max-rss"))
+    max_rss: float | None = field(default=DEFAULT_MAX_RSS_MIB, metadata=rule(checks.memory_limit, "--max-rss"))
     """Resident memory a local worker may use, MiB (None: no limit): a run that passes it is
     recorded failed and its worker replaced."""
     fmi_calls: str | None = field(default=None, metadata=rule(_FMI_CALLS, "--fmi-calls"))
@@ -314,6 +312,14 @@ class SweepOptions(RunsOptions):
     sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for sweep.csv/.parquet/.json and sweep.png; None: nothing kept."""
+
+    def _check_together(self):
+        super()._check_together()
+        both = sorted({name for name, _ in self.sets} & {name for name, _ in self.grids})
+        if both:
+            raise checks.InputError(f"{', '.join(both)} is given both by --set and by --grid", file=self._file(),
+                                    entry="--grid", fix="give each parameter by one of them (the grid flies every "
+                                                        "value; drop the --set)")
 
     @property
     def overrides(self) -> dict:

@@ -15,7 +15,9 @@ files and folders the package wrote there. When a claim ends, however it ends, e
 folder that appeared or changed while it was held is added (a new subfolder with all it holds);
 `remove_written` deletes only recorded files. A folder written by a version of the package before
 the record (it has a `.lock` and no record) is taken as written by the package for the result
-names it holds.
+names it holds. A claim under which nothing was written (the command refused or interrupted before
+its first file) leaves nothing: the lock and record it made are removed, and the folder too if it
+made it.
 """
 
 import contextlib
@@ -55,8 +57,13 @@ def _record(folder: Path, names, always=False) -> None:
     if set(names) <= known and not (always and not (folder / RECORD).is_file()):
         return
     part = folder / (RECORD + ".part")
-    part.write_text("".join(f"{name}\n" for name in sorted(known | set(names))), encoding="utf-8")
-    os.replace(part, folder / RECORD)
+    try:
+        part.write_text("".join(f"{name}\n" for name in sorted(known | set(names))), encoding="utf-8")
+        os.replace(part, folder / RECORD)
+    except BaseException:  # a full disk: the record stays as it was, no .part beside it
+        with contextlib.suppress(OSError):
+            part.unlink(missing_ok=True)
+        raise
 
 
 def _listing(folder: Path) -> dict:
@@ -129,6 +136,7 @@ def claimed(folder, names=RUN_OUTPUTS, adopt=False):
     the package's (a campaign resumed on the user's word: its rows are checked to be of the same
     campaign before any is rewritten)."""
     folder = Path(folder)
+    created = not os.path.lexists(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
@@ -170,8 +178,23 @@ def claimed(folder, names=RUN_OUTPUTS, adopt=False):
         finally:
             with contextlib.suppress(OSError):
                 _record(folder, _changed(folder, before))
+            _unused_removed(folder, created, [name for name in (RECORD, LOCK) if name not in before])
     finally:
         os.close(fd)
+
+
+def _unused_removed(folder: Path, created: bool, made: list) -> None:
+    """When the command wrote nothing in `folder` (refused or interrupted before its first file):
+    remove the record and lock this claim `made` there, and the folder if the claim `created` it
+    and nothing else is in it; the lock is still held (a claim made meanwhile has a lock file of
+    its own there, and the folder then stays)."""
+    with contextlib.suppress(OSError):
+        if written(folder):
+            return
+        for name in made:
+            (folder / name).unlink(missing_ok=True)
+        if created and not os.listdir(folder):
+            folder.rmdir()
 
 
 def remove_written(folder) -> list:

@@ -9,6 +9,7 @@ A chunk is written as whole rows; if the write fails (disk full), the file is cu
 last whole row and the run fails with an `OutputError` naming the cause.
 """
 
+import contextlib
 import io
 import json
 import os
@@ -27,17 +28,45 @@ class OutputError(SimulationError):
                          entry="--out", fix="free space on that disk or choose another --out")
 
 
-def write_json_atomically(path: Path, data) -> None:
-    """Write JSON to path via a temporary file and a rename; on failure leave neither a
-    temporary file nor a changed `path`, and raise OutputError."""
+def finite_or_text(value):
+    """`value` with every float that is not finite (inf, nan; numpy's too) replaced by its text
+    ("inf", "-inf", "nan"), inside dicts, lists and tuples: the result files' convention, as JSON
+    holds no such number (a campaign's statistics over values near the float range overflow)."""
+    if isinstance(value, dict):
+        return {k: finite_or_text(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_or_text(v) for v in value]
+    if isinstance(value, (float, np.floating)) and not np.isfinite(value):
+        return str(float(value))
+    return value
+
+
+@contextlib.contextmanager
+def replaced_atomically(path: Path):
+    """Yield the temporary file `path`.part to write; it is renamed to `path` when the `with` ends,
+    and removed if it raises (a full disk, an interruption): no .part file stays and `path` is the
+    whole new file or as it was. An OSError (no space left, file too large) is raised as an
+    OutputError naming `path`."""
+    path = Path(path)
     tmp = path.with_name(path.name + ".part")
     try:
-        with open(tmp, "w") as f:
-            f.write(json.dumps(data, indent=2, allow_nan=False, default=float) + "\n")
+        yield tmp
         os.replace(tmp, path)
-    except OSError as exc:
-        tmp.unlink(missing_ok=True)
-        raise OutputError(path, exc) from exc
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
+        if isinstance(exc, OSError) and not isinstance(exc, OutputError):
+            raise OutputError(path, exc) from exc
+        raise
+
+
+def write_json_atomically(path: Path, data) -> None:
+    """Write JSON to path via a temporary file and a rename (`replaced_atomically`; a number that is
+    not finite written as its text, `finite_or_text`): on failure neither a temporary file nor a
+    changed `path`, and an OutputError."""
+    text = json.dumps(finite_or_text(data), indent=2, allow_nan=False, default=float) + "\n"
+    with replaced_atomically(path) as tmp, open(tmp, "w") as f:
+        f.write(text)
 
 
 class TimeSeriesWriter:
@@ -60,17 +89,20 @@ class TimeSeriesWriter:
         self._write((",".join(["time"] + self.columns) + "\n").encode())
 
     def _write(self, data: bytes):
-        """Append whole lines; on failure cut the file back to its last whole line, raise OutputError."""
+        """Append whole lines; on failure cut the file back to its last whole line (and go on
+        from there), raise OutputError. An interruption raised between two partial writes
+        (`interrupts.forcible`) cuts it back too, so the rows written after it stay whole lines."""
         try:
             view = memoryview(data)
             while view:
                 view = view[self.file.write(view):]
-        except OSError as exc:
-            try:
+        except BaseException as exc:
+            with contextlib.suppress(OSError):
                 self.file.truncate(self.whole)
-            except OSError:
-                pass
-            raise OutputError(self.part, exc) from exc
+                self.file.seek(self.whole)
+            if isinstance(exc, OSError):
+                raise OutputError(self.part, exc) from exc
+            raise
         self.whole += len(data)
 
     def __call__(self, times, rows):

@@ -7,7 +7,14 @@ line), or between recording a time and recording its row (one more time than row
 `deferred()` is active the handler raises nothing: it notes the first signal in `RECEIVED`, and
 the master's loop looks at `RECEIVED` before each step (one list truth test, so a signal that
 lands in FMU code takes effect as soon as that step's calls return), and the runner once more
-before it writes the summary. Later signals are ignored so the partial results get written.
+before it writes the summary. Later signals are ignored so the partial results get written,
+except inside `forcible()`: there code may not return to the places that look (FMU code that
+hangs in a step, an endless import while an FMU is built or instantiated), so the second signal
+(with `first=True`, already the first) raises `Interrupted` in whatever code runs, once.
+
+Outside `deferred()` the command line's handler (`raise_once`) raises KeyboardInterrupt at the
+first SIGINT or SIGTERM, so the `finally` blocks of the code it lands in run (a child process is
+killed, a temporary folder removed) whichever the signal, and ignores the later ones while they do.
 """
 
 import contextlib
@@ -16,20 +23,85 @@ import threading
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
-class Interrupted(Exception):
+class Interrupted(KeyboardInterrupt):
     """Raised before the next step (the loop) or batch (a campaign) once a SIGINT/SIGTERM was
-    recorded."""
+    recorded, or by `forcible` where the code is. A KeyboardInterrupt, as the user's interruption
+    is: no `except Exception` on its way (a loader reporting a corrupt file) takes it for a failure."""
 
 
 RECEIVED = []
 """The number of the first SIGINT/SIGTERM received while deferred (empty if none)."""
+FORCED = []
+"""The number of the signal `forcible` raised as Interrupted (empty if none): a failure the
+interrupted code reports afterwards (an FMU's fatal status) is the interruption's."""
 
 _depth = 0
+_count = 0
+"""Signals received since the outermost `deferred` began."""
+_force_at = None
+"""Inside `forcible`: the count of signals (1 or 2) at which the handler raises; else None."""
 
 
 def _record(signum, frame):
+    global _count
     if not RECEIVED:
         RECEIVED.append(signum)
+    _count += 1
+    if _force_at is not None and _count >= _force_at and not FORCED:
+        FORCED.append(signum)
+        raise Interrupted(signal.Signals(signum).name)
+
+
+def forced() -> bool:
+    """True once `forcible` raised Interrupted for a signal."""
+    return bool(FORCED)
+
+
+@contextlib.contextmanager
+def forcible(first: bool = False):
+    """Inside, while deferred in the main thread: the second SIGINT/SIGTERM (with `first`, the
+    first) raises Interrupted where the main thread is, once: for code that may never reach a
+    place that looks at `RECEIVED` (an FMU's step or import that hangs). Outside `deferred`, or in
+    another thread, nothing changes. The previous setting is restored on exit."""
+    global _force_at
+    if _depth == 0 or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous, _force_at = _force_at, (1 if first else 2)
+    try:
+        if first and RECEIVED and not FORCED:  # a signal already waiting
+            FORCED.append(RECEIVED[0])
+            raise Interrupted(signal.Signals(RECEIVED[0]).name)
+        yield
+    finally:
+        _force_at = previous
+
+
+def raise_once(signum, frame):
+    """The command line's handler of SIGINT and SIGTERM outside `deferred`: the first records the
+    signal and raises KeyboardInterrupt; later ones are ignored, so the cleanup the first set off
+    (killing a child process, removing a temporary folder) is not cut short."""
+    if RECEIVED:
+        return
+    RECEIVED.append(signum)
+    raise KeyboardInterrupt(signal.Signals(signum).name)
+
+
+@contextlib.contextmanager
+def raising_once():
+    """`raise_once` as the SIGINT and SIGTERM handler inside (main thread only; the previous
+    handlers are restored)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    RECEIVED.clear()
+    previous = {n: signal.signal(n, raise_once) for n in SIGNALS}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            if handler is not None:
+                signal.signal(number, handler)
 
 
 def received():
@@ -53,9 +125,12 @@ def deferred():
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    global _count
     previous = None
     if _depth == 0:
         RECEIVED.clear()
+        FORCED.clear()
+        _count = 0
         previous = {n: signal.signal(n, _record) for n in SIGNALS}
     _depth += 1
     try:

@@ -36,8 +36,10 @@ the first one is found where it was produced. A `pool` kept by the caller lets a
 of runs (Monte Carlo) reset the FMUs instead of instantiating them again.
 """
 
+import contextlib
 import ctypes
 import math
+import os
 import time as clock
 from dataclasses import dataclass, field
 from typing import Optional
@@ -118,6 +120,28 @@ def signals_to_read(scenario):
     wanted += list(scenario.step_control.tolerance) if scenario.step_control else []
     wanted += [s for p in scenario.plots for s in p["signals"] + [p.get("x", "time")] if s != "time"]
     return list(dict.fromkeys(wanted))
+
+
+class ProcessExit(Exception):
+    """An FMU's code called os._exit while the master ran it (`exits_refused`)."""
+
+
+@contextlib.contextmanager
+def exits_refused():
+    """While inside, os._exit raises ProcessExit where it is called instead of ending the process:
+    FMUs run their Python code in this process, and a law's os._exit(0) in do_step ended `run`
+    with exit status 0, no summary.json and the time series left as a .part file. The FMU reports
+    the exception as any other (fmi2Fatal), so the run fails naming it and its rows are kept."""
+    real = os._exit
+
+    def refused(status):
+        raise ProcessExit(f"os._exit({status!r}) was called; an FMU must not end the process")
+
+    os._exit = refused
+    try:
+        yield
+    finally:
+        os._exit = real
 
 
 class Master:
@@ -213,27 +237,35 @@ class Master:
         """Run the scenario to its stop time or stop condition, the recorded rows passed to
         `recorder` in chunks (the columns laid out as `self.index` says, known once it runs);
         never raises for a failed run."""
+        with exits_refused():
+            return self._run(recorder)
+
+    def _run(self, recorder: Recorder) -> Outcome:
         outcome = Outcome()
         wall0 = clock.perf_counter()
         s = self.scenario
         self.record = recorder.record
         rows = Rows(self, outcome)
         try:
-            self._instantiate(outcome)
-            self._initialize()
+            with interrupts.forcible(first=True):  # an FMU's import or __init__ may never return
+                self._instantiate(outcome)
+                self._initialize()
             self._build_plans()
             self._read_all(s.start)
             self.coupling.set_start_inputs(s.start)
             outcome.init_time = clock.perf_counter() - wall0
             rows.add(s.start)
-            with watchdog.armed(s.step_timeout):
+            with watchdog.armed(s.step_timeout), interrupts.forcible():  # nor a step: the second signal ends it
                 self._loop(rows, outcome)
             outcome.loop_time = clock.perf_counter() - wall0 - outcome.init_time
         except SimulationError as exc:
-            outcome.status, outcome.error = Status.FAILED, str(exc)
-            outcome.stop_reason = f"failure in {exc.component}" if exc.component else "output failed"
-            outcome.error_detail = {"component": exc.component, "variable": exc.variable,
-                                    "time": exc.time, "message": exc.cause}
+            if interrupts.forced():  # the FMU reported the Interrupted a signal raised in its code
+                outcome.status, outcome.stop_reason = Status.INTERRUPTED, f"interrupted by {interrupts.name()}"
+            else:
+                outcome.status, outcome.error = Status.FAILED, str(exc)
+                outcome.stop_reason = f"failure in {exc.component}" if exc.component else "output failed"
+                outcome.error_detail = {"component": exc.component, "variable": exc.variable,
+                                        "time": exc.time, "message": exc.cause}
         except TerminateRequest as request:
             self._terminated(request, rows, outcome)
         except (KeyboardInterrupt, Interrupted):

@@ -35,6 +35,11 @@ from aotv_cosim.errors import SimulationError
 CAMPAIGN_STEP_TIMEOUT = 60.0
 """Step limit of campaigns and benchmarks when neither the scenario nor --step-timeout gives one, s.
 The slowest shipped law (predictive guidance) takes well under a second per step."""
+MIN_STEP_TIMEOUT = 0.1
+"""Smallest step limit, s (the scenario schema's minimum too). The monitor looks every limit / 4 s,
+and it gets the interpreter when the main thread hands it over, every 5 ms
+(`sys.getswitchinterval`): a smaller limit could not be met within 25 %, and below about 10 ms it
+is never seen at all (a run with `--step-timeout 1e-9` was flown unlimited)."""
 KILL_GRACE = 5.0
 """Seconds past the limit after which a campaign kills a worker whose step the signal did not end."""
 

@@ -15,16 +15,32 @@ from pathlib import Path
 
 import numpy as np
 
+from aotv_cosim.errors import InputError
 from aotv_cosim.physics import sx2
 
 DEG = 180.0 / np.pi
 
 
 def read_series(run_dir) -> dict:
-    """{column: array} of RUN_DIR/timeseries.csv."""
-    with open(Path(run_dir) / "timeseries.csv", newline="") as stream:
-        rows = list(csv.reader(stream))
-    data = np.array(rows[1:], dtype=float)
+    """{column: array} of RUN_DIR/timeseries.csv, which must record every signal of
+    `entry_scenarios.RECORD`; InputError naming the file for a folder that holds no readable time
+    series with rows, or one without those signals (the run of another scenario)."""
+    from aotv_cosim.studies.entry_scenarios import RECORD
+
+    path = Path(run_dir) / "timeseries.csv"
+    fix = "give the folder of a run of an entry_* scenario (aotv-cosim run scenarios/entry_ideal_combined.json)"
+    try:
+        with open(path, newline="") as stream:
+            rows = list(csv.reader(stream))
+        data = np.array(rows[1:], dtype=float).reshape(len(rows) - 1, len(rows[0]))
+    except (OSError, ValueError, IndexError) as exc:
+        raise InputError(f"cannot read the run's time series: {getattr(exc, 'strerror', None) or exc}", file=path,
+                         fix=fix) from None
+    missing = [name for name in RECORD if name not in rows[0]]
+    if missing or not len(data):
+        cause = f"the run recorded no {', '.join(missing[:4])}{' ...' if len(missing) > 4 else ''}" if missing \
+            else "the run recorded no row"
+        raise InputError(cause, file=path, fix=fix)
     return {name: data[:, k] for k, name in enumerate(rows[0])}
 
 

@@ -207,3 +207,70 @@ def test_a_compiler_that_fails_is_a_build_error(tmp_path, monkeypatch):
         fmu_build.ensure_fmu("LiftActuator", tmp_path / "fmus")
     assert not isinstance(ours.value, InputError)
     assert not list((tmp_path / "fmus").glob("*.fmu"))
+
+
+PYTHONFMU3_HEADER = "from pythonfmu3 import Fmi3Causality, Fmi3Slave, Fmi3Variability, Float64\n"
+PYTHONFMU3_LAW = textwrap.dedent('''
+
+    class {name}(Fmi3Slave):
+        def __init__(self, **kwargs):
+            super().__init__(**kwargs)
+            self.k = 1.0
+            self.register_variable(Float64("k", causality=Fmi3Causality.parameter, variability=Fmi3Variability.fixed,
+                                           unit="1"))
+
+        def do_step(self, current_time, step_size):
+            {step}
+''')
+
+
+def pythonfmu3_law(folder: Path, name: str, before: str = "", after: str = "", step: str = "return True") -> Path:
+    """folder/<name>.py: a plain pythonfmu3 class with `before` at the top and `after` at the end."""
+    path = folder / f"{name}.py"
+    path.write_text(PYTHONFMU3_HEADER + before + PYTHONFMU3_LAW.format(name=name, step=step) + after)
+    return path
+
+
+@pytest.mark.parametrize("before, after, said", [
+    ("import sys\nsys.exit(0)\n", "", "importing it called sys.exit(0)"),
+    ("import os\nos._exit(3)\n", "", "it called os._exit(3)"),
+    ("", PYTHONFMU3_LAW.format(name="Other", step="return True"), "defines 2 FMU classes"),
+])
+def test_a_pythonfmu3_source_is_checked_in_the_child_like_a_pythonfmu_one(tmp_path, before, after, said):
+    """A pythonfmu3 class (FMI 3.0 only) was built by pythonfmu3's builder in the command's own
+    process: its sys.exit(0) ended build-fmus with exit 0 and no FMU, a second class was dropped."""
+    source = pythonfmu3_law(tmp_path, "Three", before=before, after=after)
+    one_line(["build-fmus", source, "--out", tmp_path / "fmus"], str(source), said)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["Three.py"]
+
+
+def test_a_hanging_pythonfmu3_source_is_refused_at_the_time_limit(tmp_path, short_limit):
+    source = pythonfmu3_law(tmp_path, "Hang3", before="while True:\n    pass\n")
+    line = one_line(["build-fmus", source], str(source), "took more than 2 s")
+    assert any(f"line {line_of(source, 'while') + k}: " in line for k in (0, 1)), line  # the loop's either line
+
+
+@pytest.mark.integration
+@pytest.mark.skipif(native.patch_reason() is not None, reason=f"no native patch here: {native.patch_reason()}")
+def test_a_pythonfmu3_source_is_imported_once_and_never_in_the_building_process(tmp_path):
+    """Its FMI 3.0 FMU is assembled from the child's report: the import-time code runs in the child
+    (once) and in the child that reads the exact start values from the built FMU, never here."""
+    counter = tmp_path / "imports.log"
+    source = pythonfmu3_law(tmp_path, "Counted3", before=f"import os\nopen({str(counter)!r}, 'a').write(f'{{os.getpid()}}\\n')\n")
+    fmu = fmu_build.ensure_fmu(source, tmp_path / "fmus", fmi_version=3)
+    pids = counter.read_text().split()
+    assert len(pids) == 2 and str(os.getpid()) not in pids, pids
+    assert fmu.name == "Counted3.fmu"
+
+
+@pytest.mark.integration
+@pytest.mark.skipif(native.patch_reason() is not None, reason=f"no native patch here: {native.patch_reason()}")
+def test_a_pythonfmu3_do_step_returning_none_fails_the_run_naming_its_line(tmp_path):
+    """It ended the run 'terminated ... 0 steps' with exit 0 (the wrapper took None for a refused step
+    and answered the terminate query true), as a pythonfmu class's did before the step contract."""
+    source = pythonfmu3_law(tmp_path, "Forgot3", step="pass")
+    wiring = write_json(tmp_path / "wiring.json", {"components": {"g": {"fmu": source.name}}, "connections": []})
+    scenario = write_json(tmp_path / "run.json", {"system": wiring.name, "stop": 1.0, "step": 0.5})
+    result = cli("run", scenario, "--out", tmp_path / "out", "--no-plots")
+    assert result.exit_code == 1, result.output
+    assert f"Forgot3.py, line {line_of(source, 'def do_step')}: Forgot3.do_step returned None" in result.output

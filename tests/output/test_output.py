@@ -189,7 +189,8 @@ def test_export_ssp_leaves_no_truncated_archive(tmp_path, monkeypatch):
     from aotv_cosim.ssp import export
 
     target = tmp_path / "nominal.ssp"
-    target.write_bytes(b"previous archive")
+    assert cli("export-ssp", NOMINAL, "-o", target).exit_code == 0  # an archive of an earlier export
+    previous = target.read_bytes()
 
     def breaks_midway(out, members):
         out.write_bytes(b"PK\x03\x04 truncated")
@@ -199,5 +200,5 @@ def test_export_ssp_leaves_no_truncated_archive(tmp_path, monkeypatch):
     result = cli("export-ssp", NOMINAL, "-o", target)
     assert result.exit_code == 2
     _one_error(result, f"error: {target}: -o: cannot write the archive: No space left on device")
-    assert target.read_bytes() == b"previous archive"
+    assert target.read_bytes() == previous
     assert sorted(p.name for p in tmp_path.iterdir()) == ["nominal.ssp"]
