@@ -41,8 +41,9 @@ class OracleBankGuidance(EntryLatchedGuidance):
         super().__init__(**kwargs)
         d = oracle_bank.OracleSettings(av.TARGET_APOGEE, av.H_INTERFACE)
         p = self.parameter
-        p("apogee_target", d.apogee_target, "m", "Target apogee altitude of the exit orbit")
-        p("h_exit", d.h_exit, "m", "Atmospheric interface altitude of the exit")
+        p("apogee_target", d.apogee_target, "m", "Target apogee altitude of the exit orbit",
+          nominal=d.apogee_target)
+        p("h_exit", d.h_exit, "m", "Atmospheric interface altitude of the exit", nominal=d.h_exit)
         p("tolerance", d.tolerance, "m", "Accepted |predicted apogee - target| of a solve", min=POSITIVE)
         p("command_period", d.command_period, "s", "Period of the bank command: the scenario's step",
           min=POSITIVE)
