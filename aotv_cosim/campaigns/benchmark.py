@@ -43,6 +43,10 @@ LAWS = "laws"
 BENCHMARK_OUTPUTS = ("rows.csv", "rows.parquet", "rows.parquet.part", "scorecard.csv", "scorecard.json",
                      "scorecard.json.part", "report.md", "benchmark.png", "penalty.png")
 """The files a benchmark writes in its folder (besides laws/ and one campaign folder per law)."""
+FLOWN = (Status.COMPLETED, Status.TERMINATED, Status.IMPACT)
+"""The statuses of a run the law flew to an outcome the scorecard classifies (a pass, a terminate
+request, the ground); the others (failed, error, out of range) are failures of the run, and a law
+with nothing but those is reported failed (exit 1) and its rows not stored."""
 
 PERCENT = (0.135, 50.0, 99.865)
 
@@ -371,7 +375,7 @@ def _benchmark(options, out, flown, limits, oracle, echo) -> dict:
               "status": status.value, "oracle": oracle, "scorecard": cards,
               "units": dict(score_columns(metrics, roles=oracle is not None) + limits_of_runs.columns(limits)),
               "wall_time_s": sum(s["wall_time_s"] for s in summaries.values()), "laws": summaries,
-              "failed_laws": [law for law, s in summaries.items() if not s["completed"] and s["runs"]],
+              "failed_laws": [law for law, s in summaries.items() if not s["flown"] and s["runs"]],
               "plots": []}
     if status == Status.INTERRUPTED:
         result["interrupted_law"] = law
@@ -390,9 +394,9 @@ def _card(law, rows, cpu_per_run, metrics, limits, scenario, oracle) -> dict:
 
 def _law_summary(path, record, rows, reused) -> dict:
     """A law's entry of the result: its scenario, wall time, whether its rows were reused, its runs,
-    how many completed, and its first failure {run, status, error, where: the user's file and line
-    when flown now} (None if none failed)."""
-    failed = [r for r in rows if r["status"] != Status.COMPLETED]
+    how many completed, how many were flown to an outcome (`FLOWN`), and its first failed run {run,
+    status, error, where: the user's file and line when flown now} (None if every run was flown)."""
+    failed = [r for r in rows if r["status"] not in FLOWN]
     first = None
     if failed:
         first = {"run": failed[0]["run"], "status": str(failed[0]["status"]), "error": failed[0]["error"]}
@@ -401,13 +405,14 @@ def _law_summary(path, record, rows, reused) -> dict:
             first["where"] = found["first"]["where"]
     return {"scenario": str(path), "wall_time_s": 0.0 if reused else record["wall_time_s"], "reused": reused,
             "runs": len(rows), "completed": sum(r["status"] == Status.COMPLETED for r in rows),
-            "first_failure": first}
+            "flown": len(rows) - len(failed), "first_failure": first}
 
 
 def _storable(rows, runs) -> bool:
-    """Rows worth reusing: all `runs` of them, at least one completed, none lost with its worker."""
+    """Rows worth reusing: all `runs` of them, at least one flown to an outcome (`FLOWN`), none lost
+    with its worker."""
     lost = ("crash: ", "step timeout: ", "memory: ")
-    return len(rows) == runs and any(r["status"] == Status.COMPLETED for r in rows) and \
+    return len(rows) == runs and any(r["status"] in FLOWN for r in rows) and \
         not any(str(r["error"]).startswith(lost) for r in rows)
 
 
