@@ -41,7 +41,7 @@ import numbers
 import re
 import sys
 import traceback
-from functools import lru_cache, partial
+from functools import partial
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
@@ -61,7 +61,7 @@ DERIVED_UNITS = {
 _UNIT_TOKEN = re.compile(r"([A-Za-z]+)(\^?-?[0-9]+)?|1|[./*()]")
 
 
-@lru_cache(maxsize=None)
+@functools.cache
 def unit_exponents(unit: str) -> dict:
     """The SI base-unit exponents of a unit string, {base unit: exponent} sorted by name (FMI 2.0
     `BaseUnit` attributes); ValueError for a string that is not a product of SI units.
@@ -243,7 +243,7 @@ def _judged(slave, result, current_time, where):
         raise error
     try:
         done = bool(result)
-    except Exception:  # noqa: BLE001 - as the wrappers count it: an error in the truth test is a step done
+    except Exception:  # as the wrappers count it: an error in the truth test is a step done
         return result
     if not done:
         queue = slave.log_queue

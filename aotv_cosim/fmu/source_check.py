@@ -276,13 +276,13 @@ def _inspect(source: Path) -> dict:
         cls = fmu_class(source)
     except _SourceProblem:
         raise
-    except BaseException as exc:  # noqa: BLE001 - the source may raise anything, SystemExit included
+    except BaseException as exc:  # the source may raise anything, SystemExit included
         raise _raised("importing it", exc, source) from None
     try:
         instance = cls(instance_name="dummyInstance", resources=str(source.parent))
         model_description = instance.to_xml()
         name = instance.modelName
-    except BaseException as exc:  # noqa: BLE001 - the source may raise anything, SystemExit included
+    except BaseException as exc:  # the source may raise anything, SystemExit included
         raise _raised(f"instantiating {cls.__name__}", exc, source) from None
     from xml.etree.ElementTree import tostring
 

@@ -280,7 +280,7 @@ def _fly_python(start, s1, t_switch, sigma_2, model: TruthModel, s: OracleSettin
     """`fly` in Python (the loop `oracle_kernel` compiles)."""
     k, x, sigma, rate, sigma_before, rho_before, sign = start
     if k == 0:
-        sigma, rate = sign * (s1 if 0.0 < t_switch else sigma_2), 0.0
+        sigma, rate = sign * (s1 if t_switch > 0.0 else sigma_2), 0.0
     period = s.command_period
     args = [0.0, 0.0, model.cl_s_m, model.cd_s_m, 0.0, point_mass.GRAVITY_INVERSE_SQUARE, G0, model.mu,
             point_mass.HEADING_FULL]

@@ -20,7 +20,6 @@ Everything here is SI (m, m/s, rad, m/s^2, s); the equations are unit-consistent
 import math
 import time
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -152,8 +151,8 @@ def _residual(x, exit_target, c: AotvConstants) -> np.ndarray:
 
 
 def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
-                     guess: Optional[Tuple[float, float, float]] = None,
-                     max_iter: int = 20, max_step: Optional[Tuple[float, float]] = None
+                     guess: tuple[float, float, float] | None = None,
+                     max_iter: int = 20, max_step: tuple[float, float] | None = None
                      ) -> PredictiveSolution:
     """Solve for (a, b, tf') of the predictive time-linear law (Ch. 6, eqs. 4.8, 6.1, 6.2).
 
@@ -226,9 +225,9 @@ class KnownSolution:
     """A start for `solve_from_known`: (a m/s^2, b m/s^3, tf' s) near the solution of the problem
     with entry (h m, v m/s, gamma rad) and K k_ball (1/m), e.g. the mission's nominal."""
 
-    entry: Tuple[float, float, float]
+    entry: tuple[float, float, float]
     k_ball: float
-    guess: Tuple[float, float, float]
+    guess: tuple[float, float, float]
 
 
 def solve_from_known(entry, exit_target, k_ball: float, known: KnownSolution,
@@ -283,7 +282,7 @@ def _solve_ab_fixed_tf(x0, exit_target, a: float, b: float, tf: float, c: AotvCo
 
 
 def solve_predictive_thesis(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
-                            guess: Tuple[float, float, float] = (0.77, -2.57e-3, 300.0),
+                            guess: tuple[float, float, float] = (0.77, -2.57e-3, 300.0),
                             n_updates: int = 12, inner_iter: int = 10):
     """The thesis's iteration of Fig. 6.1, eqs. (6.1)-(6.4), run for n_updates tf' updates.
 
@@ -333,7 +332,7 @@ def estimate_k_ball(v_dot: float, h0: float, v0: float, gamma0: float,
 def solve_predictive_adaptive(entry, drag_acc: float, exit_target=EXIT_000,
                               g: float = AotvConstants.si().g,
                               scale_height: float = AotvConstants.si().scale_height,
-                              known: Optional[KnownSolution] = None):
+                              known: KnownSolution | None = None):
     """Predictive adaptive law of Sec. 8.1: K from the entry deceleration (8.1), then (a, b, tf').
 
     entry: (h0 m, v0 m/s, gamma0 rad); drag_acc: the drag specific force D/m measured at entry
@@ -360,7 +359,7 @@ TF_INTERCEPT_CORRECTED = 449.94712
 1.000 s low at both end points (extraction Sec. 8 item 3)."""
 
 
-def table_8_1_fit(k_ball: float, corrected_intercept: bool = False) -> Tuple[float, float, float]:
+def table_8_1_fit(k_ball: float, corrected_intercept: bool = False) -> tuple[float, float, float]:
     """Linear fits (8.2)-(8.4) of Table 8.1: (a m/s^2, b m/s^3, tf s) for the nominal entry.
 
     k_ball in 1/m (as Table 8.1 lists it); the fits are evaluated with K in 1/km, the only reading

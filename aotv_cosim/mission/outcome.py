@@ -22,7 +22,6 @@ metrics are the convective ones, qdot and heat_load).
 
 import math
 from dataclasses import asdict, dataclass
-from typing import Optional, Tuple
 
 from aotv_cosim.physics import orbit
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
@@ -66,7 +65,7 @@ class RunRecord:
 
     status: str
     error: str = ""
-    exit: Optional[Tuple[float, float, float]] = None
+    exit: tuple[float, float, float] | None = None
     min_altitude: float = NAN
     peak_heat_rate: float = NAN
     heat_load: float = NAN

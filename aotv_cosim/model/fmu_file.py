@@ -13,7 +13,8 @@ the output depends on every input); initial feedthrough adds `InitialUnknowns`.
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
-from typing import Callable, Union
+from typing import Union
+from collections.abc import Callable
 
 from fmpy import read_model_description
 
@@ -25,7 +26,7 @@ from aotv_cosim.paths import regular_file, resolved
 VERSIONS = ("2.0", "3.0")
 """The fmiVersion values of the FMUs the master runs."""
 
-FmuResolver = Callable[[Union[str, Path]], Union[Path, "FmuInfo"]]
+FmuResolver = Callable[[str | Path], Union[Path, "FmuInfo"]]
 """Gives the .fmu file of a wiring's FMU reference that is not a .fmu path: a name of this
 package's FMUs, or a user's FMU source (its absolute .py path). Loading takes one, so it builds
 nothing itself; the API and the command line give `fmu.build.built_fmu`, which builds the FMU

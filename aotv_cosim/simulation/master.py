@@ -42,7 +42,6 @@ import math
 import os
 import time as clock
 from dataclasses import dataclass, field
-from typing import Optional
 
 import numpy as np
 
@@ -68,10 +67,10 @@ class Outcome:
 
     status: Status = Status.COMPLETED
     stop_reason: str = "stop time reached"
-    event: Optional[dict] = None
+    event: dict | None = None
     """The located stop-condition crossing (`rows.Rows.event`), or None."""
-    error: Optional[str] = None
-    error_detail: Optional[dict] = None
+    error: str | None = None
+    error_detail: dict | None = None
     """The failure's component, variable, time (s) and message, or None."""
     steps: int = 0
     wall_time: float = 0.0
@@ -81,10 +80,10 @@ class Outcome:
     loop_time: float = 0.0
     """Wall-clock time of the stepping loop, s."""
     fmus: dict = field(default_factory=dict)
-    terminate_request: Optional[dict] = None
+    terminate_request: dict | None = None
     """An FMU that asked to end the run: its component, the last communication point every
     component reached and the FMU's fmi2LastSuccessfulTime (s)."""
-    step_control: Optional[dict] = None
+    step_control: dict | None = None
     """Error-controlled runs (`simulation.step_doubling`): steps accepted, rejected, kept at the min
     bound, sweeps made, smallest and largest step (s)."""
 

@@ -23,13 +23,13 @@ import matplotlib
 import numpy as np
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from aotv_cosim.guidance import mae, mae_solution  # noqa: E402
-from aotv_cosim.guidance.plane_change_optimal import solve_optimal  # noqa: E402
-from aotv_cosim.physics import mrrv  # noqa: E402
-from aotv_cosim.studies.shipped import scenario  # noqa: E402
-from aotv_cosim.status import Status  # noqa: E402
+from aotv_cosim.guidance import mae, mae_solution
+from aotv_cosim.guidance.plane_change_optimal import solve_optimal
+from aotv_cosim.physics import mrrv
+from aotv_cosim.studies.shipped import scenario
+from aotv_cosim.status import Status
 
 SCENARIO = scenario("plane_change_mae_guided.json")
 ENTRY = mae.State(mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)

@@ -145,7 +145,7 @@ def test_draws_depend_only_on_campaign_seed_and_run():
         rng = np.random.default_rng(child)
         assert draw(dispersions, 3, k)["a.x"] == rng.uniform(0.0, 1.0)
     values = [draw(dispersions, 3, k)["a.z"] for k in range(200)]
-    assert -0.5 <= min(values) and max(values) <= 0.5
+    assert min(values) >= -0.5 and max(values) <= 0.5
     assert draw(dispersions, 3, 5) == draw(dispersions, 3, 5) != draw(dispersions, 4, 5)
 
 

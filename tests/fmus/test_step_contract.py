@@ -89,7 +89,7 @@ def test_none_and_false_fail_the_run_the_same_on_both_call_paths(tmp_path, sourc
     summary = json.loads((tmp_path / "false" / "summary.json").read_text())
     assert result.exit_code == 1 and summary["status"] == "failed" and summary["end_time"] == 3.0
     assert "terminate_request" not in summary
-    said = f"fmi2DoStep returned discard at t = 3 s: Moody refused the step at t = 3.0 s: do_step returned False"
+    said = "fmi2DoStep returned discard at t = 3 s: Moody refused the step at t = 3.0 s: do_step returned False"
     assert said in summary["error"] and said in result.output
 
 

@@ -127,7 +127,7 @@ def test_signals_at_random_moments_of_runs(tmp_path, signaller):
             result = _invoke(scenario, out)
             timer.join()
             status = json.loads((out / "summary.json").read_text())["status"]
-            if strays.count > before or status == "completed" and interrupts.received():
+            if strays.count > before or (status == "completed" and interrupts.received()):
                 # arrived before the command listened, or after it wrote the summary
                 assert result.exit_code == 0 and status == "completed", result.output
                 check_whole_rows(out)

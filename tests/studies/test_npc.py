@@ -30,7 +30,7 @@ ENTRY = (90e3, 8200.0, -0.02)
 
 def test_target_is_the_apogee_of_the_table_4_1_exit_orbit():
     """Extraction Sec. 5 [D]: the exit state implies apogee altitude 1191.15 km."""
-    assert npc.TARGET_APOGEE_000 == pytest.approx(1191.15e3, abs=10.0)
+    assert pytest.approx(1191.15e3, abs=10.0) == npc.TARGET_APOGEE_000
 
 
 def test_lift_profile_phases():

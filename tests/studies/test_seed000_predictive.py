@@ -178,7 +178,7 @@ def test_fit_8_4_intercept_typo():
     """Extraction Sec. 8 item 3 [D]: the line through the first and last Table 8.1 rows has slope
     -503.9497 and intercept 449.94712 s; the printed (8.4) intercept 448.94712 is 1.000 s low at
     both end points (331.224 vs 332.224; 280.124 vs 281.124)."""
-    assert TF_INTERCEPT_CORRECTED - TF_INTERCEPT_PRINTED == pytest.approx(1.0, abs=1e-12)
+    assert pytest.approx(1.0, abs=1e-12) == TF_INTERCEPT_CORRECTED - TF_INTERCEPT_PRINTED
     for k, _a, _b, tf_tab, _u in (TABLE_8_1[0], TABLE_8_1[-1]):
         assert table_8_1_fit(k, corrected_intercept=True)[2] == pytest.approx(tf_tab, abs=1e-3)
         assert table_8_1_fit(k)[2] == pytest.approx(tf_tab - 1.0, abs=1e-3)

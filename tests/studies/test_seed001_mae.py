@@ -27,11 +27,11 @@ TARGETS = mae.Targets(60.0e3, D(1.0), D(20.0))
 def test_mrrv_polar_and_derived_constants():
     """[D] extraction 3.2: C_D* = 0.0640135, C_D0 = C_D*/2, K = C_D*/(2 C_L*^2) = 1.40003,
     1/(2 sqrt(C_D0 K)) = E* = 2.362, K_w = 1.3756821 m^3/kg; polar (3.10) at lambda = 1 is C_D*."""
-    assert mrrv.CD_STAR == pytest.approx(0.0640135, abs=5e-8)
+    assert pytest.approx(0.0640135, abs=5e-8) == mrrv.CD_STAR
     k_polar = mrrv.CD_STAR / (2.0 * mrrv.CL_STAR ** 2)
     assert k_polar == pytest.approx(1.40003, abs=5e-6)
     assert 1.0 / (2.0 * math.sqrt(0.5 * mrrv.CD_STAR * k_polar)) == pytest.approx(2.362, rel=1e-12)
-    assert mrrv.K_W == pytest.approx(1.3756821, abs=5e-8)
+    assert pytest.approx(1.3756821, abs=5e-8) == mrrv.K_W
     assert MODEL.k_w == pytest.approx(mrrv.K_W, rel=1e-15)
     assert mrrv.drag_coefficient(1.0) == pytest.approx(mrrv.CD_STAR, rel=1e-15)
     cl_s_m, cd_s_m = mrrv.coefficients_per_mass(0.5)
