@@ -229,7 +229,8 @@ def sweep(scenario: PathLike, grids: Mapping[str, Iterable[float]] | Iterable[st
 def corridor(scenario: PathLike, *, lift_to_drag: float | None = None, aim: str = "target",
              angle_tolerance: float = 1e-6, tolerance: float | None = None, step: float | None = None,
              bracket: Sequence[float] | None = None, set: Overrides = None, out: PathLike | None = None,
-             workers: int | None = None, scheduler=None, step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
+             workers: int | None = None, scheduler=None, step_timeout: float | None = None,
+             max_rss: float | None = DEFAULT_MAX_RSS_MIB,
              fmi_calls: str | None = None) -> dict:
     """The theoretical entry corridor of a scenario whose runs are classified (`aotv-cosim corridor`).
 

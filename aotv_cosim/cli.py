@@ -6,6 +6,7 @@ exit status 2 for bad input and 1 for a failed run or failed expectations; an un
 one line too, unless --debug asks for the traceback.
 """
 
+import contextlib
 import os
 import signal
 import sys
@@ -40,10 +41,8 @@ def _closed_pipe():
     /dev/null first, so neither a last message nor the interpreter's final flush meets the pipe."""
     devnull = os.open(os.devnull, os.O_WRONLY)
     for stream in (sys.stdout, sys.stderr):
-        try:
+        with contextlib.suppress(OSError, ValueError):  # a stream without a descriptor (a test runner's)
             os.dup2(devnull, stream.fileno())
-        except (OSError, ValueError):  # a stream without a descriptor (a test runner's)
-            pass
     sys.exit(128 + signal.SIGPIPE)
 
 
@@ -524,7 +523,8 @@ def corridor(scenario, lift_to_drag, aim, angle_tolerance, tolerance, step, brac
     def body():
         options = CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
                                   angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
-                                  sets=parse_sets(sets, file=scenario), out=_default_out(out, scenario, "-corridor"), workers=workers, scheduler=scheduler,
+                                  sets=parse_sets(sets, file=scenario), out=_default_out(out, scenario, "-corridor"),
+                                  workers=workers, scheduler=scheduler,
                                   step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls)
         try:
             r = _execute(options)
@@ -541,7 +541,8 @@ def corridor(scenario, lift_to_drag, aim, angle_tolerance, tolerance, step, brac
         for bound, how in (("steep", "full lift up"), ("shallow", "full lift down")):
             b = r[bound]
             click.echo(f"{bound} bound ({how}): gamma0 = {b['gamma0']:.7g} rad ({math.degrees(b['gamma0']):.5f} deg), "
-                       f"apogee error {b['apogee_error'] / 1e3:+.4f} km (aim {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
+                       f"apogee error {b['apogee_error'] / 1e3:+.4f} km "
+                       f"(aim {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
             low, high = (float(e) for e in b["bracket_errors"] or (b["apogee_error"],) * 2)
             if min(abs(low - b["edge"]), abs(high - b["edge"])) > r["band_m"]:
                 click.echo(f"  a sharp edge: the apogee error goes from {low / 1e3:+.6g} to {high / 1e3:+.6g} km "

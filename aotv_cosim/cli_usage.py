@@ -40,7 +40,7 @@ def usage_line(error: click.UsageError) -> str:
     if param is not None:
         parts.append(one_line(param.get_error_hint(ctx) if ctx is not None else param.name).replace('"', "'"))
     cause = " ".join(one_line(error.format_message()).split())
-    return f"{': '.join(parts + [cause])}; see '{command} --help'"
+    return f"{': '.join([*parts, cause])}; see '{command} --help'"
 
 
 class OneLineGroup(click.Group):

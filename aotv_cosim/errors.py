@@ -19,7 +19,7 @@ class AotvError(Exception):
     def __str__(self):
         """One line: a multi-line cause (an FMU's traceback, a validator's report) is joined."""
         parts = [str(p) for p in (self.file, self.entry) if p]
-        text = ": ".join(parts + [" ".join(str(self.cause).split())])
+        text = ": ".join([*parts, " ".join(str(self.cause).split())])
         return f"{text}; {self.fix}" if self.fix else text
 
 
@@ -39,8 +39,8 @@ class SimulationError(AotvError):
     `component` and `variable` name where it failed (None when no component is to blame, e.g. a
     result file that could not be written) and `time` is the communication point, s."""
 
-    def __init__(self, cause, *, file=None, entry=None, fix=None, component: str = None,
-                 variable: str = None, time: float = None):
+    def __init__(self, cause, *, file=None, entry=None, fix=None, component: str | None = None,
+                 variable: str | None = None, time: float | None = None):
         super().__init__(cause, file=file, entry=entry, fix=fix)
         self.component = component
         self.variable = variable

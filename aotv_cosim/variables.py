@@ -58,7 +58,8 @@ def _with_items(variable) -> str:
 
 def describe(target) -> pd.DataFrame:
     """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a .py FMU source
-    (built first, `fmu.build.ensure_fmu`), a wiring or a scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
+    (built first, `fmu.build.ensure_fmu`), a wiring or a scenario file (its system, with the scenario's overrides), or a
+    loaded System/Scenario."""
     from aotv_cosim.model.scenario import Scenario
     from aotv_cosim.simulation.loading import load_scenario
     from aotv_cosim.model.fmu_file import read_fmu, resolve_fmu

@@ -64,7 +64,7 @@ def main():
     per_case = {mae.ENTRY: [], mae.EXIT: []}
     for state, previous in cases:
         mode = mae.solve(state, TARGETS, previous).mode
-        per_case[mode].append(median_seconds(lambda: mae.solve(state, TARGETS, previous), args.repeats))
+        per_case[mode].append(median_seconds(lambda s=state, p=previous: mae.solve(s, TARGETS, p), args.repeats))
     every = per_case[mae.ENTRY] + per_case[mae.EXIT]
     cold = median_seconds(lambda: mae.solve(ENTRY, TARGETS), args.repeats)
     warm = statistics.median(every)

@@ -284,7 +284,7 @@ def score_columns(metrics=METRICS, roles=False) -> list:
         [("runs", "1"), ("capture_rate", "%")] + [(o, "1") for o in OUTCOMES]
     for column, _, unit, percents in metrics:
         cols += [(f"{column.split('.', 1)[1]}_p{p:g}", unit) for p in percents]
-    return cols + [("cpu_per_run", "s")]
+    return [*cols, ("cpu_per_run", "s")]
 
 
 def score(law, rows, cpu_per_run, metrics=METRICS) -> dict:

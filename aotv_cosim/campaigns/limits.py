@@ -49,7 +49,7 @@ def columns(limits: dict) -> list:
             ("saturation_time_p50", "s"), ("saturation_time_p99.865", "s"),
             ("reversals_p50", "1"), ("reversals_max", "1")]
     cols += [(f"over_{name}", "1") for name, _, _ in LIMITED if name in limits]
-    return cols + [("over_any_limit", "1")]
+    return [*cols, ("over_any_limit", "1")]
 
 
 def _values(rows, column) -> np.ndarray:

@@ -26,6 +26,7 @@ destructors), and returns their exit codes.
 """
 
 import collections
+import contextlib
 import math
 import os
 import signal
@@ -250,10 +251,8 @@ class WorkerPool:
         while wait and any(w.tasks for w in self.workers):
             self.poll(POLL)
         for worker in self.workers:
-            try:
+            with contextlib.suppress(OSError):
                 worker.conn.send(None)
-            except OSError:
-                pass
         for worker in self.workers:
             worker.process.join()
             self.exitcodes.append(worker.process.exitcode)

@@ -54,8 +54,8 @@ from aotv_cosim.fmu import source_check
 from aotv_cosim.paths import regular_file, resolved
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
-RUNTIME = ("__init__.py", "laws.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
-           "fmu/vehicle_slave.py", "physics", "guidance")
+RUNTIME = ("__init__.py", "laws.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py",
+           "fmu/guidance_slave.py", "fmu/vehicle_slave.py", "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
 RUNTIME_PATTERNS = ("*.py", "*.csv")
 """Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""

@@ -209,8 +209,8 @@ def _pythonfmu3_members(source: Path, found) -> dict:
     (`source_check.SourceClass`: its modelDescription made in the child process that imported the
     source), with this package's runtime as its project files: the module and slavemodule.txt
     naming it, pythonfmu3's modules and this package's runtime (with pythonfmu, which its step
-    contract imports) under resources/, and the modelDescription. The builder itself imports the source in the process that calls it (a hang,
-    sys.exit or two classes in the source would have met the command); its C++ sources and stock
+    contract imports) under resources/, and the modelDescription. The builder itself imports the source in the process
+    that calls it (a hang, sys.exit or two classes in the source would have met the command); its C++ sources and stock
     binaries are not used (the lean wrapper replaces them)."""
     import pythonfmu3
 

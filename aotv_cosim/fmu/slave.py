@@ -545,7 +545,8 @@ class AotvSlave(Fmi2Slave):
         """A snapshot of everything the instance computes with: every attribute but the
         declarations and pythonfmu's own bookkeeping, lists, dicts, sets and arrays copied one
         level deep by `_copied` (an adapter replaces or mutates its state at most one level deep;
-        tests/fmus/test_fmus_alone.py::test_fmu_state_round_trip checks every FMU). pythonfmu calls this for fmi2GetFMUstate."""
+        tests/fmus/test_fmus_alone.py::test_fmu_state_round_trip checks every FMU). pythonfmu calls this for
+        fmi2GetFMUstate."""
         state = self.__dict__.copy()  # then only the few mutable values copied in Python
         for name in NOT_STATE.intersection(state):
             del state[name]
@@ -558,7 +559,7 @@ class AotvSlave(Fmi2Slave):
         _copy_mutable(state, self.__dict__)
 
     # ---- model description ------------------------------------------------------------------
-    def to_xml(self, model_options=dict()):
+    def to_xml(self, model_options=dict()):  # noqa: B006 - pythonfmu's signature; the dict is only read
         """pythonfmu's modelDescription plus units, dependencies, InitialUnknowns, DefaultExperiment."""
         root = super().to_xml(model_options)
         index = {v.name: i + 1 for i, v in enumerate(self.vars.values())}

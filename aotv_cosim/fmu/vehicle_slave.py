@@ -76,7 +76,9 @@ class VehicleSlave(AotvSlave):
         self.input("sigma", 0.0, "rad", "Bank angle (positive turns toward north when heading east)")
         aero_deps = ("rho", *aero_inputs)
         drag_deps = ("rho", *(aero_inputs if drag_inputs is None else drag_inputs))
-        x = lambda k: (lambda: self.x[k])
+        def x(k):  # a getter of state component k
+            return lambda: self.x[k]
+
         o = self.output
         o("h", "m", "Altitude r - R_e (declared min 0: a run reaching the ground stops, impact)",
           lambda: self.x[0] - self.R_e, min=0.0)

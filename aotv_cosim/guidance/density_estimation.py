@@ -90,7 +90,7 @@ class DensityEstimate:
         if not altitudes or h < altitudes[-1]:
             if altitudes:
                 log_area += 0.5 * (math.log(ratios[-1]) + math.log(ratio)) * (altitudes[-1] - h)
-            altitudes, ratios = altitudes + (h,), ratios + (ratio,)
+            altitudes, ratios = (*altitudes, h), (*ratios, ratio)
         return DensityEstimate(altitudes, ratios, log_area, filtered, lift_to_drag, (h, v, drag_acc, lift_acc))
 
     def mean_log_ratio(self) -> float:

@@ -224,8 +224,12 @@ def drag_aware_controls(p, n, q_s_m, alpha_band, sigma_band, eta, alpha_guess):
     """
     from scipy.optimize import brentq, minimize_scalar
 
-    target = lambda a: q_s_m * sx2.drag_coefficient(a) * p - n
-    mismatch = lambda a: math.hypot(*target(a)) - q_s_m * sx2.lift_coefficient(a)
+    def target(a):
+        return q_s_m * sx2.drag_coefficient(a) * p - n
+
+    def mismatch(a):
+        return math.hypot(*target(a)) - q_s_m * sx2.lift_coefficient(a)
+
     grid = np.linspace(*alpha_band, 41)
     values = [mismatch(a) for a in grid]
     roots = [brentq(mismatch, a0, a1, xtol=1e-12) for a0, a1, f0, f1 in

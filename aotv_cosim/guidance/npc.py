@@ -283,8 +283,8 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
     an unbound one as too high, and moves the next iterate by du_max the way that cures it. Once
     bracketed: false position between the bracket ends with the Illinois modification (the
     retained end's miss is halved when the same end is retained twice); if an end's miss is not
-    a number, the secant step when it stays inside the bracket, else bisection. u_c stays in [u_min, u_max]. At the iteration limit the iterate with the
-    smallest usable miss is returned, converged False.
+    a number, the secant step when it stays inside the bracket, else bisection. u_c stays in [u_min, u_max]. At the
+    iteration limit the iterate with the smallest usable miss is returned, converged False.
     """
     u = _clip(u_guess, s)
     pred = predict(t_k, state, u, scale, model, s)

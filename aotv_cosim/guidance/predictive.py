@@ -101,8 +101,8 @@ def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConst
     `_EnergyFloor`, `_loop`) stops the flight before tf.
 
     The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
-    along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
-    relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
+    along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is
+    approximate to a relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
     Events do not change the steps taken (solve_ivp locates them after each step).
     """
     from scipy.integrate import solve_ivp  # here: not every law needs scipy

@@ -159,7 +159,7 @@ def _number(x) -> float:
 def _left_atmosphere(state, at_event: bool, c: CaptureCriteria) -> bool:
     """The state (h, v, gamma) is an exit: climbing (gamma > 0), and either located by the
     run's stop condition (at_event) or above the exit altitude."""
-    h, v, gamma = state
+    h, _v, gamma = state
     if not all(map(math.isfinite, state)) or not gamma > 0.0:
         return False
     return at_event or h >= c.exit_altitude

@@ -139,7 +139,7 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
         raise
     except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
         raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
-                         fix="give a valid FMI 2.0 or 3.0 co-simulation FMU")
+                         fix="give a valid FMI 2.0 or 3.0 co-simulation FMU") from exc
     if md.fmiVersion not in VERSIONS or md.coSimulation is None:
         only = " (it is for scheduled execution only)" if getattr(md, "scheduledExecution", None) else ""
         raise InputError(f"{path.name} is not an FMI 2.0 or 3.0 co-simulation FMU{only}", file=file, entry=entry,

@@ -357,8 +357,8 @@ def _check_expected(s: Scenario, e: Expectation, entry) -> list:
     var = s.system.variable(e.signal)
     comp = s.system.components[e.signal.split(".", 1)[0]]
     if var.type == "Enumeration":
-        ok = not isinstance(e.value, bool) and enumeration_value(
-            comp.fmu, var.name, int(e.value) if isinstance(e.value, float) and e.value.is_integer() else e.value) is not None
+        value = int(e.value) if isinstance(e.value, float) and e.value.is_integer() else e.value
+        ok = not isinstance(e.value, bool) and enumeration_value(comp.fmu, var.name, value) is not None
     elif var.type == "Boolean":
         ok = isinstance(e.value, bool)
     elif var.type == "String":

@@ -317,7 +317,8 @@ def _check_connection(conn, components, file, entry):
         if out.type not in ("Integer", "Boolean") or inp.fmi_type not in FLOAT64_CALLS:
             problems.append(InputError(f"cannot convert {out.fmi_type} -> {inp.fmi_type} (as {conn.as_type})",
                                        file=file, entry=entry,
-                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input (FMI 3.0: Float64)"))
+                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input (FMI 3.0: "
+                                           "Float64)"))
         return problems
     if not lossless(out.fmi_type, inp.fmi_type):
         convertible = out.type in ("Integer", "Boolean") and inp.fmi_type in FLOAT64_CALLS
@@ -397,13 +398,13 @@ def _check_loops(system):
         state[node] = "open"
         for nxt in edges.get(node, ()):
             if state.get(nxt) == "open":
-                cycle = trail[trail.index(nxt):] + [nxt]
+                cycle = [*trail[trail.index(nxt):], nxt]
                 text = " -> ".join(f"{c}.{v}" for kind, c, v in cycle if kind == "out")
                 raise InputError(f"algebraic loop of direct feedthrough: {text}", file=system.path,
                                  entry="connections",
                                  fix="break the loop with a component that has no direct feedthrough")
             if nxt not in state:
-                visit(nxt, trail + [nxt])
+                visit(nxt, [*trail, nxt])
         state[node] = "done"
 
     for node in list(edges):

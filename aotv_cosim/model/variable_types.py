@@ -143,7 +143,7 @@ class Decoder:
     """Turns recorded float64 columns back into their types: `types` {column: type} names the
     columns that are not Real, `texts` the run's String values by number (`Strings.texts`)."""
 
-    def __init__(self, types: dict = None, texts: list = None):
+    def __init__(self, types: dict | None = None, texts: list | None = None):
         self.types = dict(types or {})
         self.texts = texts if texts is not None else []
 

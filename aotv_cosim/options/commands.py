@@ -82,7 +82,8 @@ class RunOptions(_Scenario):
     step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
                                                       what="the step"), "--step"))
     """Communication step, s (None: the scenario's)."""
-    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
+                                                            "--start"))
     """Start time, s (None: the scenario's); with start or stop given only the expectations at
     the event are checked."""
     stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
@@ -116,7 +117,8 @@ class CheckOptions(Options):
     """Scenario files or folders (default: scenarios/)."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """Base output folder: each scenario's results in OUT/<scenario> (None: results/check)."""
-    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
+                                                            "--start"))
     stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
 
 
@@ -257,7 +259,8 @@ class CampaignOptions(RunsOptions):
     """Continue an interrupted campaign in `out`."""
     sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
     """As for `RunOptions.sets`."""
-    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
+                                                            "--start"))
     stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
     keep_series: bool = field(default=False, metadata=rule(flag, "--keep-series"))
     """Also keep every run's recorded signals (about 200 rows a run) in series.parquet."""
@@ -284,7 +287,8 @@ class BenchmarkOptions(RunsOptions):
     """`aotv-cosim benchmark` / `aotv_cosim.benchmark`: every law of a set and your laws through
     the same dispersions."""
 
-    scenario_set: Path = field(metadata=rule(path("scenario set (a folder, a scenario or a shipped set's name)"), "SET"))
+    scenario_set: Path = field(metadata=rule(path("scenario set (a folder, a scenario or a shipped set's name)"),
+                                             "SET"))
     """A folder of scenarios (one law each), one scenario file, or a shipped set's name
     (benchmark_seed000, benchmark_aerocapture/afe, benchmark_aerocapture/aotv)."""
     laws: tuple[Path, ...] = field(default=(), metadata=rule(law_files, "--law"))

@@ -262,7 +262,7 @@ class BackwardRates:
         0.99999999999997868 s) keeps the same samples as one that multiplies it (this master: k h)."""
         s = self.samples
         if not s or t - s[-1][0] >= self.spacing - TIME_TOLERANCE:
-            self.samples = (s + [(t, v, gamma, theta)])[-3:]
+            self.samples = [*s, (t, v, gamma, theta)][-3:]
 
     def rates(self) -> TrajectoryRates:
         s = self.samples

@@ -13,6 +13,7 @@ argument types FMPy gave them). A pythonfmu FMU runs Python, so its functions ar
 releasing the GIL (`holding_gil`).
 """
 
+import contextlib
 import ctypes
 import functools
 import itertools
@@ -201,10 +202,8 @@ class CInstance(FmuInstance):
         if self.broken:
             return
         for call in (self.slave.terminate, self._free):
-            try:
+            with contextlib.suppress(Exception):
                 call()
-            except Exception:
-                pass
 
     def _free(self):
         """fmiXFreeInstance, then unload the library, with pythonfmu's interpreter state released

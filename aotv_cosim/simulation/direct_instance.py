@@ -89,7 +89,7 @@ def slave_class(resources: Path) -> type:
     return best
 
 
-def info_of_class(cls: type, name: str = "fake", feedthrough: dict = None) -> FmuInfo:
+def info_of_class(cls: type, name: str = "fake", feedthrough: dict | None = None) -> FmuInfo:
     """An `FmuInfo` describing the variables of slave class `cls` (an instance made to list them),
     for a `DirectInstance` without an FMU file; its path is the class's source file, its
     `slave_class` the class (a system component with this info runs in a `Master` with
@@ -162,7 +162,7 @@ class DirectInstance(FmuInstance):
     calls = "direct"
 
     def __init__(self, name: str, info, start_time: float, stop_time: float, tolerance=None,
-                 cls: type = None, resources: str = None):
+                 cls: type | None = None, resources: str | None = None):
         """cls/resources: the slave class and its resources folder (default: `info.slave_class`
         when set, `info_of_class`, else those of the FMU file of `info`, extracted)."""
         super().__init__(name, info, start_time)

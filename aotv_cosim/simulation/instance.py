@@ -117,11 +117,8 @@ class FmuInstance(ABC):
     # ---- reporting (shared) -----------------------------------------------------------------
     def last_message(self) -> str:
         """The FMU's last error-level log message (else its last message), one line."""
-        for status, text in reversed(self.messages):
-            if status in ("error", "fatal"):
-                break
-        else:
-            text = self.messages[-1][1] if self.messages else ""
+        errors = (text for status, text in reversed(self.messages) if status in ("error", "fatal"))
+        text = next(errors, self.messages[-1][1] if self.messages else "")
         lines = [line.strip() for line in text.splitlines() if line.strip()]
         return lines[-1] if lines else "no message from the FMU"
 

@@ -29,8 +29,8 @@ The values exchanged and one communication step belong to the run's `coupling.Co
 are views into one shared ctypes buffer that numpy also sees, inputs whose sources lie side by side
 in that buffer are passed as views of it (no copy per step), and the C entry points are called
 directly, or, for the FMUs this package built, their Python slaves (`fmi_calls` "direct",
-`direct_instance`). The loop records the bytes of the buffer per communication point. Non-finite values are searched for in
-whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
+`direct_instance`). The loop records the bytes of the buffer per communication point. Non-finite values are searched for
+in whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
 is summed (a non-finite sum is checked element-wise) and kept if it holds a non-finite value, so
 the first one is found where it was produced. A `pool` kept by the caller lets a sequence
 of runs (Monte Carlo) reset the FMUs instead of instantiating them again.

@@ -57,7 +57,7 @@ def bundled_runtimes():
 def systems(argv):
     """[(ssp, stop, signals)] of the command line (groups separated by --)."""
     groups, group = [], []
-    for arg in argv + ["--"]:
+    for arg in [*argv, "--"]:
         if arg == "--":
             groups.append((group[0], float(group[1]), group[2:]))
             group = []

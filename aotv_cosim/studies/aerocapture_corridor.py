@@ -45,4 +45,5 @@ if __name__ == "__main__":
     for name in SCENARIOS:
         c = corridor(name)
         print(f"{name}: L/D {c['lift_to_drag']:.2f}: full lift up {c['lift_up']:.4f} deg, full lift down "
-              f"{c['lift_down']:.4f} deg, width {c['width']:.4f} deg; sigma = 90 deg at {c['no_vertical_lift']:.4f} deg")
+              f"{c['lift_down']:.4f} deg, width {c['width']:.4f} deg; "
+              f"sigma = 90 deg at {c['no_vertical_lift']:.4f} deg")

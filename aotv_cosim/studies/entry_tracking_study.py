@@ -54,7 +54,7 @@ class Design:
         g = law.gains(self.omega1, self.zeta1, self.omega2, self.zeta2)
         if self.integral:
             return g
-        return law.Gains(g.k1[:3] + (0.0,), g.k2[:2] + (0.0,))
+        return law.Gains((*g.k1[:3], 0.0), (*g.k2[:2], 0.0))
 
 
 def entry_state(perturbation, reference: Reference):

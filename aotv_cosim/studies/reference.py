@@ -196,7 +196,7 @@ def _events(scenario, vehicle, names, R_e):
     events = []
     for cond in scenario.stop_conditions[:1]:
         comp, var = cond.signal.split(".", 1)
-        if comp != vehicle or var not in names + ["h"]:
+        if comp != vehicle or var not in [*names, "h"]:
             continue
         k = 0 if var == "h" else names.index(var)
         offset = R_e if var == "h" else 0.0

@@ -18,6 +18,7 @@ import random
 import signal
 import threading
 import time
+from typing import ClassVar
 
 import pytest
 from click.testing import CliRunner
@@ -190,7 +191,7 @@ def test_a_time_without_its_row_is_dropped_at_the_flush():
 
     class Master:
         coupling = Coupling()
-        received = []
+        received: ClassVar[list] = []
 
         def record(self, times, rows):
             self.received.append((list(times), rows.tolist()))

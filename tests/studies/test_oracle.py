@@ -99,7 +99,8 @@ def test_the_oracle_model_is_the_co_simulated_pass(tmp_path, name):
     model = ob.TruthModel(wired["CL"] * s_m, doc["parameters"]["vehicle.CD"] * s_m, density_factor=1.1,
                           profile_sigma=0.1, profile_seed=4242.0, rate_limit=actuator["rate_limit"],
                           accel_limit=actuator["accel_limit"], r_earth=R_E, mu=MU)
-    settings = ob.OracleSettings(av.TARGET_APOGEE, av.H_INTERFACE, deadband=components["bank"]["parameters"]["deadband"])
+    settings = ob.OracleSettings(av.TARGET_APOGEE, av.H_INTERFACE,
+                                 deadband=components["bank"]["parameters"]["deadband"])
     flown = ob.fly(ob.entry_state((wired["h0"], wired["v0"], wired["gamma0"], 0.0, 0.0), model), 0.0,
                    first["bank.t_switch"], first["bank.sigma_2"], model, settings)
     assert flown.exited and run.summary["outcome"]["class"] == "captured"

@@ -206,7 +206,7 @@ def test_predictive_adaptive_estimates_k_and_resolves(factor):
     predictive solution for that K; K x 0.8 is Table 8.1 row 1 (a 0.633419, tf 332.22 s, within
     the Sec. 6.9 tolerances 1 % and 1.5 s)."""
     k = factor * K_BALL_000
-    h0, v0, gamma0 = ENTRY_000
+    h0, v0, _gamma0 = ENTRY_000
     c = AotvConstants.si(k)
     drag = k * np.exp(-h0 / c.scale_height) * v0 ** 2
     k_est, sol = solve_predictive_adaptive(ENTRY_000, drag)

@@ -6,6 +6,7 @@ by hand in the extraction, [V] the extraction author's independent prototype (ev
 gospel). Angles in the report are in degrees; the code works in rad.
 """
 
+import itertools
 import math
 
 import numpy as np
@@ -139,7 +140,7 @@ def test_toy_first_order_error_is_uniformly_order_eps_squared():
         got = mae_toy.max_first_order_error(eps, 0.3)
         assert got == pytest.approx(err, rel=2e-3)
         ratios.append(got / eps ** 2)
-    assert all(a < b < math.e for a, b in zip(ratios, ratios[1:]))
+    assert all(a < b < math.e for a, b in itertools.pairwise(ratios))
     t_i = np.linspace(0.0, 1.0, 20001)
     err0 = np.max(np.abs(mae_toy.return_exact(0.3, t_i, 0.1) - mae_toy.return_zeroth(0.3, t_i, 0.1)))
     assert err0 == pytest.approx(0.247, abs=5e-4)
