@@ -18,6 +18,7 @@ import hashlib
 import json
 import resource
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -318,7 +319,7 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
     its finished runs): the result has status "interrupted", the laws done so far, and the
     folder's scorecard files are not written. `options.fmi_calls` does not change the rows, so it
     is not part of the key."""
-    out = Path(options.out)
+    out = Path(cast(Path, options.out))  # the API gives a temporary folder when the caller gives none
     set_scenarios = scenarios_of(options.scenario_set)
     created = not out.exists()
     try:
@@ -338,7 +339,10 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
 
 
 def _benchmark(options, out, flown, limits, oracle, echo) -> dict:
-    summaries, rows_by_law, cpu, units = {}, {}, {}, None
+    summaries: dict = {}
+    rows_by_law: dict = {}
+    cpu: dict = {}
+    units: dict = {}
     status = Status.COMPLETED
     for law, (path, scenario) in flown.items():
         key = campaign_key(path, scenario, options.runs, options.seed)

@@ -81,7 +81,7 @@ def _serve(conn, progress, initializer, initargs, finalizer):
                 break
             fn, args = call
             try:
-                answer = (fn(*args), None)
+                answer: tuple = (fn(*args), None)
             except Exception as exc:
                 answer = (None, exc)
             try:
@@ -102,7 +102,7 @@ class _Worker:
                                        args=(child, self.progress, initializer, initargs, finalizer))
         self.process.start()
         child.close()
-        self.tasks = collections.deque()
+        self.tasks: collections.deque = collections.deque()
         """Tasks sent and not answered, oldest (the one under way) first."""
         self.seen = (None, time.monotonic())
         """(step count last seen, monotonic time it was first seen)."""
@@ -150,8 +150,8 @@ class WorkerPool:
         self.size, self.context = max_workers, mp_context
         self.start_args = (initializer, initargs, finalizer)
         self.step_limit, self.max_rss = step_limit, max_rss
-        self.queue = collections.deque()
-        self.finished = collections.deque()
+        self.queue: collections.deque = collections.deque()
+        self.finished: collections.deque = collections.deque()
         """Tasks done since `completed` last looked."""
         self.workers = []
         self.exitcodes = []

@@ -34,7 +34,7 @@ def statistics(rows, columns) -> dict:
     finite value is left out)."""
     stats = {}
     for name in columns:
-        x = completed_values(rows, name) if name not in TEXT_COLUMNS else []
+        x = completed_values(rows, name) if name not in TEXT_COLUMNS else np.array([])
         if len(x):
             stats[name] = sample_statistics(x, PERCENTILES)
     return stats
