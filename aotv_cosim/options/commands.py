@@ -76,7 +76,7 @@ class RunOptions(_Scenario):
     """A scenario file (or an .ssp archive), or from Python a loaded Scenario."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """The output folder; None: in memory, nothing written."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     """Overrides of parameters and unconnected inputs, SI: a mapping {'comp.var': value}, kept as
     pairs."""
     step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
@@ -169,7 +169,7 @@ class ExportOptions(_Scenario):
     scenario: object = field(metadata=rule(_scenario, "SCENARIO"))
     out: Path = field(metadata=rule(path(".ssp file"), "--out"))
     """The .ssp archive to write."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
                                                       what="the step"), "--step"))
     fmi_version: int = field(default=2, metadata=rule(choice(2, 3), "--fmi"))
@@ -257,7 +257,7 @@ class CampaignOptions(RunsOptions):
     """The campaign folder; None: a temporary one, removed."""
     resume: bool = field(default=False, metadata=rule(flag, "--resume"))
     """Continue an interrupted campaign in `out`."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     """As for `RunOptions.sets`."""
     start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
                                                             "--start"))
@@ -313,7 +313,7 @@ class SweepOptions(RunsOptions):
     grids: tuple = field(metadata=rule(grids, "--grid"))
     """((parameter, (values...)), ...), SI, from {"comp.var": values} or "comp.var=LOW:HIGH:N" texts;
     every combination is flown (at most MAX_POINTS)."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for sweep.csv/.parquet/.json and sweep.png; None: nothing kept."""
 
@@ -373,7 +373,7 @@ class CorridorOptions(RunsOptions):
     bracket: tuple | None = field(default=None, metadata=rule(_bracket, "--bracket"))
     """(steep, shallow) entry flight-path angles searched, rad, -pi/2 < steep < shallow < 0 (None:
     each bound searched outward from the scenario's entry)."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     """As for `RunOptions.sets`, applied to the passes flown (not to the guidance taken out)."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for corridor.json, corridor.png and the two scenarios flown; None: nothing kept."""
