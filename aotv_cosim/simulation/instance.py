@@ -104,15 +104,18 @@ class FmuInstance(ABC):
     summary.json)."""
 
     calls = "c"
-    step_call = "fmi2DoStep"
-    """The name of the FMI function that steps the FMU, for messages."""
+
+    @property
+    def step_call(self) -> str:
+        """The name of the FMI function that steps the FMU, for messages."""
+        return "fmi2DoStep"
 
     def __init__(self, name: str, info, start_time: float):
         self.name = name
         self.info = info
         self.time = start_time
         self.broken = False
-        self.messages = collections.deque(maxlen=MESSAGES_KEPT)
+        self.messages: collections.deque[tuple[str, str]] = collections.deque(maxlen=MESSAGES_KEPT)
 
     # ---- reporting (shared) -----------------------------------------------------------------
     def last_message(self) -> str:

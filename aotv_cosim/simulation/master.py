@@ -41,7 +41,9 @@ import ctypes
 import math
 import os
 import time as clock
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -51,6 +53,7 @@ from aotv_cosim.model.capabilities import fixed_step_components
 from aotv_cosim.simulation.coupling import Coupling
 from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
+from aotv_cosim.simulation.instance import FmuInstance
 from aotv_cosim.simulation.interrupts import Interrupted
 from aotv_cosim.simulation.fmi2_instance import Fmi2Instance
 from aotv_cosim.simulation.fmi3_instance import Fmi3Instance
@@ -102,7 +105,7 @@ C_INSTANCES = {"2.0": Fmi2Instance, "3.0": Fmi3Instance}
 """fmiVersion -> the `instance.FmuInstance` that calls such an FMU through its C library."""
 
 
-def instance_class(info, fmi_calls: str) -> type:
+def instance_class(info, fmi_calls: str) -> Callable[..., FmuInstance]:
     """The `instance.FmuInstance` implementation that runs the FMU `info` when the run asks for
     `fmi_calls`: an FMU this package built called directly when asked ("direct"), every other
     one through its C library for its FMI version."""
@@ -164,7 +167,7 @@ class Master:
         self.pool = pool
         self.signals = signals_to_read(scenario)
         self.instances = {}
-        self.coupling = None
+        self.coupling = cast(Coupling, None)  # None until `_build_plans`, which every run calls first
         """The run's `Coupling` (buffer and prepared calls), made after initialization."""
         self.strings = Strings()
         """The String values of the run, numbered (`variable_types`): the buffer holds their numbers."""
@@ -186,7 +189,7 @@ class Master:
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
                                   "guid": comp.fmu.guid, "fmi_calls": inst.calls,
                                   "wrapper": built_wrapper(comp.fmu.path)}
-        drawn = {}
+        drawn: dict = {}
         for signal, value in {**self.overrides, **bound_values(s, self.overrides)}.items():
             comp, var = signal.split(".", 1)
             drawn.setdefault(comp, {})[var] = value

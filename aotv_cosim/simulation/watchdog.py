@@ -58,7 +58,7 @@ class StepLimitReached(Exception):
     """Raised by the SIGALRM handler in the code that is running when a step's limit passes."""
 
 
-_fired = []
+_fired: list = []
 
 
 def _alarm(signum, frame):
