@@ -21,12 +21,12 @@ class UserPath(click.Path):
     def convert(self, value, param, ctx):
         if isinstance(value, str) and "\0" in value:
             error = click.BadParameter("the path holds a NUL byte", ctx=ctx, param=param)
-            error.value = value
+            error.value = value  # type: ignore[attr-defined]  # the refused value, read by the usage line
             raise error
         try:
             return super().convert(value, param, ctx)
         except click.BadParameter as error:
-            error.value = value
+            error.value = value  # type: ignore[attr-defined]
             raise
 
 

@@ -62,8 +62,10 @@ def raise_if_any(problems):
     """Raise the single problem, or ValidationFailed for several; do nothing if none. A problem
     found again with the same message (one cause met by every component, e.g. a bad environment
     variable of the FMU build) is reported once."""
-    seen = set()
-    problems = [p for p in problems if not (str(p) in seen or seen.add(str(p)))]
+    unique: dict[str, Exception] = {}
+    for p in problems:
+        unique.setdefault(str(p), p)
+    problems = list(unique.values())
     if len(problems) == 1:
         raise problems[0]
     if problems:

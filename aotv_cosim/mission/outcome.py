@@ -206,7 +206,7 @@ def record_from_summary(summary: dict, c: CaptureCriteria, vehicle: str = "vehic
         return _number(entry["value"]) if entry else NAN
 
     state = (at("h"), at("v"), at("gamma"))
-    exited = _left_atmosphere(state, bool(event) and event.get("signal") == f"{vehicle}.h", c)
+    exited = _left_atmosphere(state, event is not None and event.get("signal") == f"{vehicle}.h", c)
     return RunRecord(
         status=str(summary.get("status", "")), error=str(summary.get("error") or ""),
         exit=state if exited else None, min_altitude=extreme(lows, "h"),

@@ -35,7 +35,7 @@ _FIXES = {
 
 def schema(kind: str) -> dict:
     """The JSON schema of a file kind ('wiring' or 'scenario'), as shipped in aotv_cosim/schemas."""
-    text = resources.files("aotv_cosim").joinpath("schemas", SCHEMAS[kind]).read_text()
+    text = resources.files("aotv_cosim").joinpath("schemas").joinpath(SCHEMAS[kind]).read_text()
     return json.loads(text)
 
 

@@ -11,9 +11,9 @@ the output depends on every input); initial feedthrough adds `InitialUnknowns`.
 """
 
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
-from typing import Union
+from typing import Any, Union
 from collections.abc import Callable
 
 from fmpy import read_model_description
@@ -50,7 +50,7 @@ class Variable:
     unit: str
     start: object
     description: str
-    fmi_type: str = None
+    fmi_type: str = None  # type: ignore[assignment]  # None: the variable's `type` (__post_init__)
 
     def __post_init__(self):
         if self.fmi_type is None:
@@ -62,10 +62,12 @@ class FmuInfo:
     """An FMU file and what its modelDescription says."""
 
     path: Path
-    model_description: object
+    model_description: Any  # fmpy's ModelDescription
     variables: dict
     feedthrough: dict
     initial_feedthrough: dict
+    slave_class: type | None = field(default=None, compare=False, repr=False)
+    """The slave class of an FMU that is a class, not a file (`simulation.direct_instance`)."""
 
     @property
     def guid(self):

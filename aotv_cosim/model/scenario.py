@@ -29,7 +29,7 @@ class StopCondition:
     String) changes from one communication point to the next."""
 
     signal: str
-    threshold: float
+    threshold: float | None
     direction: str = "either"
 
 
@@ -56,8 +56,8 @@ class Expectation:
     at: object
     value: float
     source: str
-    tolerance: float = None
-    rel_tolerance: float = None
+    tolerance: float | None = None
+    rel_tolerance: float | None = None
     note: str = ""
 
     def allowed_error(self) -> float:
@@ -76,10 +76,10 @@ class Dispersion:
 
     signal: str
     kind: str
-    mean: float = None
-    std: float = None
-    low: float = None
-    high: float = None
+    mean: float | None = None
+    std: float | None = None
+    low: float | None = None
+    high: float | None = None
 
 
 @dataclass
@@ -334,6 +334,7 @@ def _check_outcome_actuator(s: Scenario, doc, outputs) -> list:
     nan)."""
     if "actuator" not in doc.get("montecarlo", {}).get("outcome", {}):
         return []
+    assert s.outcome is not None  # the document names an outcome actuator, so the scenario has an outcome
     signal = f"{s.outcome.actuator}.saturation_time"
     if signal not in outputs:
         return [InputError(f"{s.outcome.actuator} has no output saturation_time, which the outcome reports as the "

@@ -44,7 +44,7 @@ class Connection:
     output: str
     target: str
     input: str
-    as_type: str = None
+    as_type: str | None = None
 
     def __str__(self):
         text = f"{self.source}.{self.output} -> {self.target}.{self.input}"
@@ -356,7 +356,7 @@ def _unit_warnings(connections, components) -> list:
 
 def _check_inputs(system):
     problems = []
-    seen = {}
+    seen: dict = {}
     for k, conn in enumerate(system.connections):
         key = (conn.target, conn.input)
         if key in seen:
@@ -385,7 +385,7 @@ def _check_inputs(system):
 
 def _check_loops(system):
     """Reject a cycle of same-instant dependencies (an algebraic loop) between variables."""
-    edges = {}
+    edges: dict = {}
     for conn in system.connections:
         edges.setdefault(("out", conn.source, conn.output), []).append(("in", conn.target, conn.input))
     for comp in system.components.values():

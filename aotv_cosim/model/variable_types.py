@@ -121,7 +121,7 @@ def enumeration_value(fmu, name: str, value):
     return None
 
 
-def typed(kind: str, slot: float, strings: Strings = None):
+def typed(kind: str, slot: float, strings: Strings | None = None):
     """A buffer slot value as the Python value of a variable of type `kind`."""
     if kind in ("Integer", "Enumeration"):
         return int(slot)
@@ -132,9 +132,10 @@ def typed(kind: str, slot: float, strings: Strings = None):
     return float(slot)
 
 
-def slot(kind: str, value, strings: Strings = None) -> float:
+def slot(kind: str, value, strings: Strings | None = None) -> float:
     """The buffer slot value of a Python value of a variable of type `kind`."""
     if kind == "String":
+        assert strings is not None, "a String value is numbered by the run's Strings"
         return strings.number(value)
     return float(value)
 

@@ -81,7 +81,8 @@ class TimeSeriesWriter:
         self.select = [index[c] for c in self.columns]
         self.decoder = decoder if decoder is not None and any(
             decoder.kind(c) != "Real" for c in self.columns) else None
-        self.times, self.chunks = [], []
+        self.times: list[np.ndarray] = []
+        self.chunks: list[np.ndarray] = []
         self.whole = 0  # bytes of the file that are whole lines (header and rows)
         try:
             self.file = open(self.part, "wb", buffering=0)  # noqa: SIM115 - written row by row; `close` closes it
@@ -151,7 +152,9 @@ def _typed_lines(text, data, kinds, texts):
 def statistics(columns, times, rows, decoder=None):
     """Final values, minima and maxima (with their times) of each column; with a `decoder` the
     columns that are not Real are given as their type (no extrema for a String)."""
-    final, minima, maxima = {}, {}, {}
+    final: dict[str, object] = {}
+    minima: dict[str, dict] = {}
+    maxima: dict[str, dict] = {}
     if len(times) == 0:
         return final, minima, maxima
     for k, name in enumerate(columns):

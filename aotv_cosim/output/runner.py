@@ -36,7 +36,7 @@ class Run(NamedTuple):
     columns: list
     times: np.ndarray
     rows: np.ndarray
-    decoder: Decoder = None
+    decoder: Decoder | None = None
 
 
 def recorded_columns(scenario):

@@ -56,7 +56,8 @@ def bundled_runtimes():
 
 def systems(argv):
     """[(ssp, stop, signals)] of the command line (groups separated by --)."""
-    groups, group = [], []
+    groups: list[tuple[str, float, list[str]]] = []
+    group: list[str] = []
     for arg in [*argv, "--"]:
         if arg == "--":
             groups.append((group[0], float(group[1]), group[2:]))
