@@ -199,7 +199,9 @@ def _members(source: Path, kind: str, found, tmp: Path, digest: str) -> dict:
     members["modelDescription.xml"] = fmi3_description.finish(root, digest)
     token = root.get("instantiationToken")
     members[build.TOKEN_FILE] = f"{token}\n".encode()
-    native.patch_linux_binary(members, root.find("CoSimulation").get("modelIdentifier"), fmi_version=3)
+    co_simulation = root.find("CoSimulation")
+    assert co_simulation is not None  # fmi3_description writes it
+    native.patch_linux_binary(members, co_simulation.attrib["modelIdentifier"], fmi_version=3)
     members[build.BUILD_INFO] = f"{digest}\n".encode()
     return members
 

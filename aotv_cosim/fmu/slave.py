@@ -42,6 +42,7 @@ import re
 import sys
 import traceback
 from functools import partial
+from typing import cast
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
@@ -219,7 +220,7 @@ def checked_step(do_step):
             result = do_step(self, current_time, step_size)
         except Exception as exc:
             if not getattr(exc, "_aotv_logged", False):
-                exc._aotv_logged = True
+                exc._aotv_logged = True  # type: ignore[attr-defined]  # a mark for the wrappers above
                 text = _authors_traceback(exc)
                 self.log(f"{type(self).__name__}.do_step raised at t = {current_time!r} s:\n{text}",
                          Fmi2Status.fatal)
@@ -227,7 +228,7 @@ def checked_step(do_step):
         if result is True:
             return result
         return _judged(self, result, current_time, where)
-    wrapper._aotv_contract = True
+    wrapper._aotv_contract = True  # type: ignore[attr-defined]  # a mark `checked_step` looks for
     return wrapper
 
 
@@ -239,7 +240,7 @@ def _judged(slave, result, current_time, where):
                    "missing `return`?); return True when the step is done, False to refuse it")
         slave.log(message, Fmi2Status.fatal)
         error = StepContractError(message)
-        error._aotv_logged = True
+        error._aotv_logged = True  # type: ignore[attr-defined]
         raise error
     try:
         done = bool(result)
@@ -341,7 +342,7 @@ class AotvSlave(Fmi2Slave):
         self._nominals = {}
         self._inputs_checked = True
         self._outside = ()
-        self._undefined = frozenset()
+        self._undefined: frozenset[str] = frozenset()
         self.revision = 0  # not `version`: pythonfmu writes that attribute into the modelDescription
         self.start_time = 0.0
         self.initializing = True  # until fmi2ExitInitializationMode
@@ -415,7 +416,8 @@ class AotvSlave(Fmi2Slave):
         2.0: the typical magnitude of the quantity, e.g. 7045.0 for a scale height in m)."""
         if nominal is None:
             return
-        if isinstance(nominal, bool) or not isinstance(nominal, numbers.Real) or not 0.0 < nominal < math.inf:
+        if (isinstance(nominal, bool) or not isinstance(nominal, numbers.Real)
+                or not 0.0 < cast(float, nominal) < math.inf):
             raise ValueError(f"{name}: nominal {nominal!r} must be a finite number above 0 (the quantity's "
                              "typical magnitude in its SI unit)")
         self._nominals[name] = float(nominal)

@@ -11,6 +11,7 @@ once. Bundled into the FMUs (``fmu_build.RUNTIME``).
 """
 
 import math
+from typing import Any
 import sys
 
 from pythonfmu.enums import Fmi2Status
@@ -124,8 +125,8 @@ class VehicleSlave(AotvSlave):
         """Initial state from the parameters."""
         self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
         self.heat_load = self.heat_load_total = 0.0
-        self._forces = (-1, None)
-        self._qdot = (-1, None)
+        self._forces: tuple[int, Any] = (-1, None)  # (revision, (L/m, D/m)) once computed
+        self._qdot: tuple[int, Any] = (-1, None)  # (revision, (convective, radiative)) once computed
 
     def start_state(self):
         """The initial state of the current parameters (h0, v0, ..., R_e may be set during
@@ -152,7 +153,7 @@ class VehicleSlave(AotvSlave):
         return False
 
     # ---- outputs ----------------------------------------------------------------------------
-    def _specific_forces(self):
+    def _specific_forces(self) -> tuple[float, float]:
         """(L/m, D/m) in m/s^2 at the current state and inputs, computed once per `revision`
         (three outputs read them)."""
         revision, forces = self._forces

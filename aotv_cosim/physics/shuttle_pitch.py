@@ -251,7 +251,7 @@ class BackwardRates:
     def __init__(self, spacing: float = 1.0, L: float = GENERIC.L):
         self.spacing = spacing
         self.L = L
-        self.samples = []
+        self.samples: list[tuple[float, float, float, float]] = []
 
     def reset(self):
         self.samples = []
