@@ -52,7 +52,7 @@ class NominalSpline:
                        for i in range(ppoly.c.shape[1])]
         """Per interval, per variable: coefficients (c3, c2, c1, c0) of s^0 .. s^3."""
         self.scales = _SCALE.tolist()
-        self._last = (None, None)
+        self._last: tuple = (None, None)
 
     def __call__(self, t):
         """(6, ...) km-s values at time(s) t (s)."""

@@ -63,8 +63,8 @@ def _ground(_t, y, _a, _b, c: AotvConstants) -> float:
     return y[0] - c.r_earth
 
 
-_ground.terminal = True
-_ground.direction = -1
+_ground.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
+_ground.direction = -1  # type: ignore[attr-defined]  # read by solve_ivp
 
 
 class _EnergyFloor:
@@ -91,8 +91,8 @@ def _loop(_t, y, _a, _b, _c) -> float:
     return 0.5 * math.pi - abs(y[2])
 
 
-_loop.terminal = True
-_loop.direction = -1
+_loop.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
+_loop.direction = -1  # type: ignore[attr-defined]  # read by solve_ivp
 
 
 def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConstants, events=()):
@@ -127,12 +127,13 @@ def _flown_trial(x0, trial, c: AotvConstants, floor: _EnergyFloor, last: bool):
     last halving stop there), its energy falls below the floor or it loops; _NOT_FLOWN if tf' <= 0. The
     last halving is flown through the ground, as it always was; a float overflow there
     (exp(-h/H) far below the ground) counts as not flown."""
-    if trial[2] <= 0.0:
+    a, b, tf = trial
+    if tf <= 0.0:
         return _NOT_FLOWN
     if not last:
-        return _terminal_with_sensitivities(x0, *trial, c, (_ground, floor, _loop))
+        return _terminal_with_sensitivities(x0, a, b, tf, c, (_ground, floor, _loop))
     try:
-        return _terminal_with_sensitivities(x0, *trial, c, (floor, _loop))
+        return _terminal_with_sensitivities(x0, a, b, tf, c, (floor, _loop))
     except (OverflowError, FloatingPointError):
         return _NOT_FLOWN
 
@@ -182,7 +183,7 @@ def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
     z = np.array(guess if guess is not None else table_8_1_fit(k_ball, corrected_intercept=True))
     weights = np.array([1e-3, 1.0, 1e3])
     floor = _EnergyFloor(exit_target, c)
-    first = _terminal_with_sensitivities(x0, *z, c, (floor, _loop)) if z[2] > 0.0 else None
+    first = _terminal_with_sensitivities(x0, z[0], z[1], z[2], c, (floor, _loop)) if z[2] > 0.0 else None
     if first is None:
         return PredictiveSolution(float(z[0]), float(z[1]), float(z[2]), np.full(3, np.inf), int(z[2] > 0.0),
                                   False, time.perf_counter() - start)
