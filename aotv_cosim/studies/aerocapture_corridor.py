@@ -30,11 +30,12 @@ def corridor(configuration: str) -> dict:
     configuration ("afe" or "aotv")."""
     scenario = load_scenario(shipped(SCENARIOS[configuration]), UNPERTURBED)
     plant = core.plant_of(scenario)
-    found = core.bounds("target", scenario.outcome.band, no_vertical_lift=True)
+    assert scenario.outcome is not None  # the shipped scenarios state their outcome
+    bounds = core.bounds("target", scenario.outcome.band, no_vertical_lift=True)
     with tempfile.TemporaryDirectory(prefix="aotv_corridor_study_") as tmp:
         paths = core.write_scenarios(scenario, plant, core.FRACTIONS, None, core.step_flown(scenario, None), tmp,
                                      UNPERTURBED)
-        found = core.searches(plant, paths, found, core.nominal_gamma0(scenario), 1e-6)
+        found = core.searches(plant, paths, bounds, core.nominal_gamma0(scenario), 1e-6)
         result = core.fly_in_process(found, core.gamma0_signal(scenario))
     up, down, mid = (math.degrees(result[b]["gamma0"]) for b in ("steep", "shallow", "no_vertical_lift"))
     return {"lift_up": up, "lift_down": down, "no_vertical_lift": mid, "width": down - up,

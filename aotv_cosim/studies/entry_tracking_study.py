@@ -80,7 +80,8 @@ class Run:
 def simulate(perturbation, plant="full", design=Design(), reference=None, step=5e4 * sx2.FT ** 2):
     """Closed loop from the perturbed entry to E_f, RK4 in energy with |dE| <= step (m^2/s^2)."""
     reference = reference or Reference()
-    g, x, e = design.gains(), *entry_state(perturbation, reference)
+    g = design.gains()
+    x, e = entry_state(perturbation, reference)
     y = np.concatenate([x, [0.0, 0.0]])
 
     def control(e, y):

@@ -118,7 +118,7 @@ def optimal_in_mae_units(opt):
     return p_u, p_gamma, loh
 
 
-def run_guided(out: Path, scenario_path: Path = SCENARIO):
+def run_guided(out: Path, scenario_path: Path = SCENARIO) -> tuple[dict, float]:
     """Run the guided co-simulation into out/guided.
 
     Returns ({signal: array, 'time': array}, exit speed in m/s interpolated at the 60 km crossing).
@@ -131,6 +131,7 @@ def run_guided(out: Path, scenario_path: Path = SCENARIO):
     if summary.status != Status.COMPLETED:
         raise RuntimeError(f"guided run failed: {summary.error}")
     data = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True, deletechars="")
+    assert data.dtype.names is not None and summary.event is not None  # named columns; the run ended at its event
     return {name: data[name] for name in data.dtype.names}, summary.event["values"]["vehicle.v"]
 
 
