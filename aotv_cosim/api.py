@@ -19,8 +19,9 @@ import errno
 import os
 import tempfile
 import threading
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.options import (
@@ -118,8 +119,8 @@ def run(scenario, *, set: Overrides = None, start: float | None = None, stop: fl
     Raises:
         errors.InputError: bad input, with the command line's one-line message.
     """
-    return execute(RunOptions(scenario=scenario, sets=set, start=start, stop=stop, step=step, out=out, plots=plots,
-                              formats=formats, step_timeout=step_timeout, fmi_calls=fmi_calls))
+    return execute(RunOptions.of(scenario=scenario, sets=set, start=start, stop=stop, step=step, out=out, plots=plots,
+                                 formats=formats, step_timeout=step_timeout, fmi_calls=fmi_calls))
 
 
 def montecarlo(scenario, runs: int, *, workers: int | None = None, seed: int = 0, scheduler=None,
@@ -149,9 +150,9 @@ def montecarlo(scenario, runs: int, *, workers: int | None = None, seed: int = 0
     Returns:
         a `Campaign`: `.rows` (one row per run, units in `.units`), `.statistics`, `.summary`.
     """
-    return execute(CampaignOptions(scenario=scenario, runs=runs, workers=workers, seed=seed, scheduler=scheduler,
-                                   out=out, resume=resume, sets=set, start=start, stop=stop, keep_series=keep_series,
-                                   step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
+    return execute(CampaignOptions.of(scenario=scenario, runs=runs, workers=workers, seed=seed, scheduler=scheduler,
+                                      out=out, resume=resume, sets=set, start=start, stop=stop, keep_series=keep_series,
+                                      step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
 
 
 @dataclasses.dataclass
@@ -165,10 +166,10 @@ class Benchmark:
     runs all failed, status "interrupted" if a SIGINT/SIGTERM stopped it: then only the laws done
     by then and no rows); `out`: the output folder or None."""
 
-    scorecard: object
-    rows: object
+    scorecard: Any
+    rows: Any
     result: dict
-    out: Path = None
+    out: Path | None = None
 
     @property
     def failed_laws(self) -> list:
@@ -199,9 +200,9 @@ def benchmark(scenario_set: PathLike, laws: PathLike | Iterable[PathLike] = (), 
     Returns:
         a `Benchmark`: `.scorecard` (one row per law) and `.rows` (every run) as DataFrames.
     """
-    return execute(BenchmarkOptions(scenario_set=scenario_set, laws=laws, runs=runs, workers=workers, seed=seed,
-                                    scheduler=scheduler, out=out, reuse=reuse, step_timeout=step_timeout,
-                                    max_rss=max_rss, fmi_calls=fmi_calls))
+    return execute(BenchmarkOptions.of(scenario_set=scenario_set, laws=laws, runs=runs, workers=workers, seed=seed,
+                                       scheduler=scheduler, out=out, reuse=reuse, step_timeout=step_timeout,
+                                       max_rss=max_rss, fmi_calls=fmi_calls))
 
 
 def sweep(scenario: PathLike, grids: Mapping[str, Iterable[float]] | Iterable[str], *,
@@ -222,14 +223,15 @@ def sweep(scenario: PathLike, grids: Mapping[str, Iterable[float]] | Iterable[st
         metrics, exit state, extrema), units in `.attrs["units"]`, the sweep's summary (status,
         runs, points, wall time) in `.attrs["sweep"]`.
     """
-    return execute(SweepOptions(scenario=scenario, grids=grids, workers=workers, scheduler=scheduler, sets=set,
-                                out=out, step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
+    return execute(SweepOptions.of(scenario=scenario, grids=grids, workers=workers, scheduler=scheduler, sets=set,
+                                   out=out, step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
 
 
 def corridor(scenario: PathLike, *, lift_to_drag: float | None = None, aim: str = "target",
              angle_tolerance: float = 1e-6, tolerance: float | None = None, step: float | None = None,
              bracket: Sequence[float] | None = None, set: Overrides = None, out: PathLike | None = None,
-             workers: int | None = None, scheduler=None, step_timeout: float | None = None, max_rss: float | None = DEFAULT_MAX_RSS_MIB,
+             workers: int | None = None, scheduler=None, step_timeout: float | None = None,
+             max_rss: float | None = DEFAULT_MAX_RSS_MIB,
              fmi_calls: str | None = None) -> dict:
     """The theoretical entry corridor of a scenario whose runs are classified (`aotv-cosim corridor`).
 
@@ -257,10 +259,10 @@ def corridor(scenario: PathLike, *, lift_to_drag: float | None = None, aim: str 
         ("plant", "control", "removed", "lift_to_drag") and each bisection's runs ("points":
         (gamma0, apogee error)). See `aotv_cosim.campaigns.corridor`.
     """
-    return execute(CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
-                                   angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
-                                   sets=set, out=out, workers=workers, scheduler=scheduler, step_timeout=step_timeout,
-                                   max_rss=max_rss, fmi_calls=fmi_calls))
+    return execute(CorridorOptions.of(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
+                                      angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
+                                      sets=set, out=out, workers=workers, scheduler=scheduler,
+                                      step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls))
 
 
 def describe(target):
@@ -268,7 +270,7 @@ def describe(target):
     wiring, scenario or .ssp file, or of a loaded System or Scenario (`aotv-cosim describe`): a
     DataFrame, one row per variable (causality, variability, type, unit, start, min, max,
     description; for a system also the component and the value it sets)."""
-    return execute(DescribeOptions(target=target))
+    return execute(DescribeOptions.of(target=target))
 
 
 def build_fmus(sources: PathLike | Iterable[PathLike] = (), *, out: PathLike | None = None,
@@ -277,7 +279,7 @@ def build_fmus(sources: PathLike | Iterable[PathLike] = (), *, out: PathLike | N
     sources, one alone is one) into the cache, or as NAME.fmu into `out` (`aotv-cosim build-fmus`);
     only changed sources are rebuilt. fmi_version: 2 or 3 (None: 2, or 3 for a pythonfmu3 class).
     Returns {name: FMU path}."""
-    return execute(BuildOptions(sources=sources, out=out, fmi_version=fmi_version))
+    return execute(BuildOptions.of(sources=sources, out=out, fmi_version=fmi_version))
 
 
 def validate(files: PathLike | Iterable[PathLike], *, benchmark: PathLike | None = None) -> list:
@@ -287,14 +289,14 @@ def validate(files: PathLike | Iterable[PathLike], *, benchmark: PathLike | None
     or a shipped set's name, e.g. "benchmark_aerocapture/afe") each file is a law's wiring or
     scenario, also checked against the set's contract (`campaigns.contract`: the plant, the command,
     the signals the set reads and the values it disperses), every missing piece named in the file."""
-    return execute(ValidateOptions(files=files, benchmark=benchmark))
+    return execute(ValidateOptions.of(files=files, benchmark=benchmark))
 
 
 def export_ssp(scenario: PathLike, out: PathLike, *, set: Overrides = None, step: float | None = None,
                fmi_version: int = 2) -> Path:
     """Write the system of `scenario` as the SSP archive `out` (`aotv-cosim export-ssp`), this
     package's FMUs as FMI `fmi_version` (2 or 3); returns its path."""
-    return execute(ExportOptions(scenario=scenario, out=out, sets=set, step=step, fmi_version=fmi_version))
+    return execute(ExportOptions.of(scenario=scenario, out=out, sets=set, step=step, fmi_version=fmi_version))
 
 
 # --- what each command does, given its checked options ----------------------------------------
@@ -325,7 +327,7 @@ def _loaded(options: RunOptions):
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario, sets, step, start, stop)
     else:
-        changed = {}
+        changed: dict[str, Any] = {}
         if sets:
             changed["system"] = with_values(scenario.system, sets, f"{scenario.path} (with --set)")
         if start is not None or stop is not None:
@@ -353,7 +355,7 @@ def _do_montecarlo(options: CampaignOptions) -> Campaign:
     with tempfile.TemporaryDirectory(prefix="aotv_mc_") as tmp:
         flown = options if options.out is not None else options.replace(out=tmp, plots=False)
         summary = run_campaign(flown)
-        rows = pd.read_parquet(Path(flown.out) / "rows.parquet")
+        rows = pd.read_parquet(Path(options.out or tmp) / "rows.parquet")
     return Campaign(summary, rows, out=options.out)
 
 
@@ -373,7 +375,7 @@ def _do_benchmark(options: BenchmarkOptions, echo=None) -> Benchmark:
         if result["status"] == "interrupted":
             rows = pd.DataFrame()
         else:
-            table = pq.read_table(Path(flown.out) / "rows.parquet")
+            table = pq.read_table(Path(options.out or tmp) / "rows.parquet")
             rows = table.to_pandas()
             rows.attrs["units"] = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema}
     scorecard = pd.DataFrame(result["scorecard"], columns=list(result["units"])).set_index("law")
@@ -442,8 +444,8 @@ def _do_validate(options: ValidateOptions, each=None, contract=None) -> list:
     from aotv_cosim.simulation.loading import load_scenario, load_system
     from aotv_cosim.studies.compare import load_comparison
 
-    loaders = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
-               "compare": load_comparison}
+    loaders: dict[str, Callable] = {"wiring": lambda f: load_system(f, fmus=built_fmu), "scenario": load_scenario,
+                                    "compare": load_comparison}
     needs = None
     if options.benchmark is not None:
         from aotv_cosim.campaigns import benchmark
@@ -559,8 +561,9 @@ def document_kind(path) -> str:
     return "wiring" if "components" in doc or "connections" in doc else "scenario"
 
 
-_COMMANDS = {RunOptions: _do_run, CampaignOptions: _do_montecarlo, BenchmarkOptions: _do_benchmark,
-             SweepOptions: _do_sweep, CorridorOptions: _do_corridor, DescribeOptions: _do_describe,
-             BuildOptions: _do_build, ValidateOptions: _do_validate, ExportOptions: _do_export,
-             CheckOptions: _do_check, CompareOptions: _do_compare}
+_COMMANDS: dict[type, Callable] = {
+    RunOptions: _do_run, CampaignOptions: _do_montecarlo, BenchmarkOptions: _do_benchmark,
+    SweepOptions: _do_sweep, CorridorOptions: _do_corridor, DescribeOptions: _do_describe,
+    BuildOptions: _do_build, ValidateOptions: _do_validate, ExportOptions: _do_export,
+    CheckOptions: _do_check, CompareOptions: _do_compare}
 """The implementation of each command, by the type of its options."""

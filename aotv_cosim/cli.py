@@ -6,6 +6,7 @@ exit status 2 for bad input and 1 for a failed run or failed expectations; an un
 one line too, unless --debug asks for the traceback.
 """
 
+import contextlib
 import os
 import signal
 import sys
@@ -40,10 +41,8 @@ def _closed_pipe():
     /dev/null first, so neither a last message nor the interpreter's final flush meets the pipe."""
     devnull = os.open(os.devnull, os.O_WRONLY)
     for stream in (sys.stdout, sys.stderr):
-        try:
+        with contextlib.suppress(OSError, ValueError):  # a stream without a descriptor (a test runner's)
             os.dup2(devnull, stream.fileno())
-        except (OSError, ValueError):  # a stream without a descriptor (a test runner's)
-            pass
     sys.exit(128 + signal.SIGPIPE)
 
 
@@ -184,9 +183,10 @@ def run(scenario, out, sets, step, start, stop, series_format, no_plots, step_ti
     from aotv_cosim.options import RunOptions
 
     def body():
-        options = RunOptions(scenario=scenario, out=_default_out(out, scenario), sets=parse_sets(sets, file=scenario),
-                             step=step, start=start, stop=stop, formats=_FORMATS[series_format], plots=not no_plots,
-                             step_timeout=step_timeout, fmi_calls=fmi_calls)
+        options = RunOptions.of(scenario=scenario, out=_default_out(out, scenario),
+                                sets=parse_sets(sets, file=scenario), step=step, start=start, stop=stop,
+                                formats=_FORMATS[series_format], plots=not no_plots, step_timeout=step_timeout,
+                                fmi_calls=fmi_calls)
         bar = _RunBar()
         try:
             summary = _execute(options, progress=bar.begin).run_summary
@@ -271,7 +271,7 @@ def check(paths, out, start, stop):
     from aotv_cosim.options import CheckOptions
 
     def body():
-        options = CheckOptions(paths=paths or ("scenarios",), out=out, start=start, stop=stop)
+        options = CheckOptions.of(paths=paths or ("scenarios",), out=out, start=start, stop=stop)
         t0 = time.perf_counter()
         failed = []
 
@@ -307,7 +307,7 @@ def validate(files, benchmark_set):
         if not files:
             click.echo(f"What a law of {benchmark_set} must provide:\n\n{markdown(needs)}", nl=False)
 
-    _guard(lambda: _execute(ValidateOptions(files=files, benchmark=benchmark_set),
+    _guard(lambda: _execute(ValidateOptions.of(files=files, benchmark=benchmark_set),
                             each=lambda f, kind: click.echo(f"ok: {f} ({kind}" + (f", a law of {benchmark_set})"
                                                                                   if benchmark_set else ")")),
                             contract=contract))
@@ -322,7 +322,7 @@ def describe(target):
     from aotv_cosim.options import DescribeOptions
     from aotv_cosim.variables import format_table
 
-    _guard(lambda: click.echo(format_table(_execute(DescribeOptions(target=target)))))
+    _guard(lambda: click.echo(format_table(_execute(DescribeOptions.of(target=target)))))
 
 
 @main.command("build-fmus")
@@ -340,7 +340,7 @@ def build_fmus(sources, out, fmi_version):
     from aotv_cosim.options import BuildOptions
 
     def body():
-        options = BuildOptions(sources=sources, out=out, fmi_version=int(fmi_version) if fmi_version else None)
+        options = BuildOptions.of(sources=sources, out=out, fmi_version=int(fmi_version) if fmi_version else None)
         refs = [str(s) for s in options.sources] or fmu_build.available_fmus()
         with BuildProgress(total=sum(fmu_build.needs_build(r, options.out, options.fmi_version) for r in refs)) \
                 as progress:
@@ -368,13 +368,13 @@ def montecarlo(scenario, runs, seed, out, resume, sets, keep_series, start, stop
     from aotv_cosim.options import CampaignOptions
 
     def body():
-        options = CampaignOptions(scenario=scenario, runs=runs, workers=workers, seed=seed, scheduler=scheduler,
-                                  out=_default_out(out, scenario, "-mc"), resume=resume,
-                                  sets=parse_sets(sets, file=scenario), start=start, stop=stop,
-                                  keep_series=keep_series, step_timeout=step_timeout, max_rss=max_rss,
-                                  fmi_calls=fmi_calls, progress=True)
+        out_dir = _default_out(out, scenario, "-mc")
+        options = CampaignOptions.of(scenario=scenario, runs=runs, workers=workers, seed=seed, scheduler=scheduler,
+                                     out=out_dir, resume=resume,
+                                     sets=parse_sets(sets, file=scenario), start=start, stop=stop,
+                                     keep_series=keep_series, step_timeout=step_timeout, max_rss=max_rss,
+                                     fmi_calls=fmi_calls, progress=True)
         summary = _execute(options).summary
-        out_dir = options.out
         for warning in summary["warnings"]:
             click.echo(f"warning: {warning}", err=True)
         rate = summary["runs_per_s"]
@@ -426,10 +426,10 @@ def benchmark(scenario_set, laws, runs, seed, out, refly, workers, scheduler, st
     from aotv_cosim.options import BenchmarkOptions
 
     def body():
-        options = BenchmarkOptions(scenario_set=scenario_set, laws=laws, runs=runs, workers=workers, seed=seed,
-                                   scheduler=scheduler, out=_default_out(out, scenario_set, "-benchmark"),
-                                   reuse=not refly, step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls,
-                                   progress=True)
+        options = BenchmarkOptions.of(scenario_set=scenario_set, laws=laws, runs=runs, workers=workers, seed=seed,
+                                      scheduler=scheduler, out=_default_out(out, scenario_set, "-benchmark"),
+                                      reuse=not refly, step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls,
+                                      progress=True)
         bench = _execute(options, echo=click.echo)
         result, out_dir = bench.result, options.out
         if result["status"] == Status.INTERRUPTED:
@@ -472,9 +472,9 @@ def sweep(scenario, grids, sets, out, workers, scheduler, step_timeout, max_rss,
     from aotv_cosim.output.display_units import display
 
     def body():
-        options = SweepOptions(scenario=scenario, grids=grids, sets=parse_sets(sets, file=scenario),
-                               out=_default_out(out, scenario, "-sweep"), workers=workers, scheduler=scheduler,
-                               step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls, progress=True)
+        options = SweepOptions.of(scenario=scenario, grids=grids, sets=parse_sets(sets, file=scenario),
+                                  out=_default_out(out, scenario, "-sweep"), workers=workers, scheduler=scheduler,
+                                  step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls, progress=True)
         frame = _execute(options)
         result, units = frame.attrs["sweep"], frame.attrs["units"]
         shown = result["parameters"] + [c for c in ("outcome", "outcome.apogee_error", "outcome.dv_total")
@@ -522,10 +522,11 @@ def corridor(scenario, lift_to_drag, aim, angle_tolerance, tolerance, step, brac
     from aotv_cosim.options import CorridorOptions
 
     def body():
-        options = CorridorOptions(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
-                                  angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
-                                  sets=parse_sets(sets, file=scenario), out=_default_out(out, scenario, "-corridor"), workers=workers, scheduler=scheduler,
-                                  step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls)
+        options = CorridorOptions.of(scenario=scenario, lift_to_drag=lift_to_drag, aim=aim,
+                                     angle_tolerance=angle_tolerance, tolerance=tolerance, step=step, bracket=bracket,
+                                     sets=parse_sets(sets, file=scenario), out=_default_out(out, scenario, "-corridor"),
+                                     workers=workers, scheduler=scheduler,
+                                     step_timeout=step_timeout, max_rss=max_rss, fmi_calls=fmi_calls)
         try:
             r = _execute(options)
         except interrupts.Interrupted:
@@ -541,7 +542,8 @@ def corridor(scenario, lift_to_drag, aim, angle_tolerance, tolerance, step, brac
         for bound, how in (("steep", "full lift up"), ("shallow", "full lift down")):
             b = r[bound]
             click.echo(f"{bound} bound ({how}): gamma0 = {b['gamma0']:.7g} rad ({math.degrees(b['gamma0']):.5f} deg), "
-                       f"apogee error {b['apogee_error'] / 1e3:+.4f} km (aim {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
+                       f"apogee error {b['apogee_error'] / 1e3:+.4f} km "
+                       f"(aim {b['edge'] / 1e3:+g} km, {b['runs']} runs)")
             low, high = (float(e) for e in b["bracket_errors"] or (b["apogee_error"],) * 2)
             if min(abs(low - b["edge"]), abs(high - b["edge"])) > r["band_m"]:
                 click.echo(f"  a sharp edge: the apogee error goes from {low / 1e3:+.6g} to {high / 1e3:+.6g} km "
@@ -569,8 +571,8 @@ def export_ssp(scenario, out, sets, step, fmi_version):
 
     def body():
         system = []
-        path = _execute(ExportOptions(scenario=scenario, out=out, sets=parse_sets(sets, file=scenario), step=step,
-                                      fmi_version=int(fmi_version)),
+        path = _execute(ExportOptions.of(scenario=scenario, out=out, sets=parse_sets(sets, file=scenario), step=step,
+                                         fmi_version=int(fmi_version)),
                         loaded=lambda s: system.append(s.system))
         start, stop, every = default_experiment(path)  # the stop the system reaches (ssp.experiment)
         click.echo(f"{path}: {len(system[0].components)} components, {len(system[0].connections)} connections, "
@@ -590,10 +592,11 @@ def compare(comparison, out, no_plots):
     from aotv_cosim.studies.compare import format_table
 
     def body():
-        options = CompareOptions(comparison=comparison, out=_default_out(out, comparison), plots=not no_plots)
+        out_dir = _default_out(out, comparison)
+        options = CompareOptions.of(comparison=comparison, out=out_dir, plots=not no_plots)
         table = _execute(options, progress=lambda law: click.echo(f"flying {law}", err=True))
         click.echo(format_table(table))
-        click.echo(f"table in {options.out / 'comparison.csv'}")
+        click.echo(f"table in {out_dir / 'comparison.csv'}")
 
     _guard(body)
 
@@ -652,8 +655,11 @@ def figures_seed001(out, scenario):
     from aotv_cosim.studies.plane_change_plots import make_all
 
     guided = scenario or _shipped("plane_change_mae_guided.json")
-    _guard(lambda: [click.echo(Path(out) / name) for name in _with_builds(lambda: make_all(Path(out), guided),
-                                                                          out=out)])
+    def body():
+        for name in _with_builds(lambda: make_all(Path(out), guided), out=out):
+            click.echo(Path(out) / name)
+
+    _guard(body)
 
 
 @figures.command("seed002")

@@ -21,12 +21,12 @@ class UserPath(click.Path):
     def convert(self, value, param, ctx):
         if isinstance(value, str) and "\0" in value:
             error = click.BadParameter("the path holds a NUL byte", ctx=ctx, param=param)
-            error.value = value
+            error.value = value  # type: ignore[attr-defined]  # the refused value, read by the usage line
             raise error
         try:
             return super().convert(value, param, ctx)
         except click.BadParameter as error:
-            error.value = value
+            error.value = value  # type: ignore[attr-defined]
             raise
 
 
@@ -40,7 +40,7 @@ def usage_line(error: click.UsageError) -> str:
     if param is not None:
         parts.append(one_line(param.get_error_hint(ctx) if ctx is not None else param.name).replace('"', "'"))
     cause = " ".join(one_line(error.format_message()).split())
-    return f"{': '.join(parts + [cause])}; see '{command} --help'"
+    return f"{': '.join([*parts, cause])}; see '{command} --help'"
 
 
 class OneLineGroup(click.Group):

@@ -19,7 +19,7 @@ class AotvError(Exception):
     def __str__(self):
         """One line: a multi-line cause (an FMU's traceback, a validator's report) is joined."""
         parts = [str(p) for p in (self.file, self.entry) if p]
-        text = ": ".join(parts + [" ".join(str(self.cause).split())])
+        text = ": ".join([*parts, " ".join(str(self.cause).split())])
         return f"{text}; {self.fix}" if self.fix else text
 
 
@@ -39,8 +39,8 @@ class SimulationError(AotvError):
     `component` and `variable` name where it failed (None when no component is to blame, e.g. a
     result file that could not be written) and `time` is the communication point, s."""
 
-    def __init__(self, cause, *, file=None, entry=None, fix=None, component: str = None,
-                 variable: str = None, time: float = None):
+    def __init__(self, cause, *, file=None, entry=None, fix=None, component: str | None = None,
+                 variable: str | None = None, time: float | None = None):
         super().__init__(cause, file=file, entry=entry, fix=fix)
         self.component = component
         self.variable = variable
@@ -62,8 +62,10 @@ def raise_if_any(problems):
     """Raise the single problem, or ValidationFailed for several; do nothing if none. A problem
     found again with the same message (one cause met by every component, e.g. a bad environment
     variable of the FMU build) is reported once."""
-    seen = set()
-    problems = [p for p in problems if not (str(p) in seen or seen.add(str(p)))]
+    unique: dict[str, Exception] = {}
+    for p in problems:
+        unique.setdefault(str(p), p)
+    problems = list(unique.values())
     if len(problems) == 1:
         raise problems[0]
     if problems:

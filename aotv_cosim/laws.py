@@ -62,6 +62,6 @@ from aotv_cosim.fmu.guidance_slave import (EntryLatchedGuidance, NominalTracking
 from aotv_cosim.fmu.slave import NOT_STATE, POSITIVE, SAVED_STATE, STEP_CONTRACT, AotvSlave, unit_exponents
 from aotv_cosim.fmu.vehicle_slave import VehicleSlave
 
-__all__ = ["AotvSlave", "EntryLatchedGuidance", "NominalTrackingGuidance", "ActuatorSlave", "VehicleSlave",
-           "declare_exit_targets", "declare_exit_targets_and_k", "unit_exponents", "POSITIVE",
-           "NOT_STATE", "SAVED_STATE", "STEP_CONTRACT"]
+__all__ = ["NOT_STATE", "POSITIVE", "SAVED_STATE", "STEP_CONTRACT", "ActuatorSlave", "AotvSlave",
+           "EntryLatchedGuidance", "NominalTrackingGuidance", "VehicleSlave", "declare_exit_targets",
+           "declare_exit_targets_and_k", "unit_exponents"]

@@ -34,7 +34,8 @@ def resolved(path, *, file=None, entry=None, what="file") -> Path:
         return Path(path).resolve()
     except (OSError, RuntimeError, ValueError) as exc:
         raise InputError(f"cannot resolve the path: {_os_cause(exc)}", file=file or path, entry=entry,
-                         fix=f"give the path of a {what} (no symlink loop, no NUL byte, names under 255 bytes)")
+                         fix=f"give the path of a {what} (no symlink loop, no NUL byte, names under 255 bytes)"
+                         ) from exc
 
 
 def regular_file(path, *, what="file", file=None, entry=None, max_bytes=None) -> os.stat_result:
@@ -47,7 +48,7 @@ def regular_file(path, *, what="file", file=None, entry=None, max_bytes=None) ->
     except (OSError, ValueError) as exc:
         cause = "file not found" if isinstance(exc, FileNotFoundError) else f"cannot be read: {_os_cause(exc)}"
         raise InputError(cause if file is None else f"{cause}: {path}", file=where, entry=entry,
-                         fix=f"give the path of an existing {what}")
+                         fix=f"give the path of an existing {what}") from exc
     if stat.S_ISDIR(info.st_mode):
         raise InputError("is a folder" if file is None else f"is a folder: {path}", file=where, entry=entry,
                          fix=f"give the path of a {what}")
@@ -73,7 +74,7 @@ def writable_folder(path, option="--out") -> Path:
         cause = "a file is in the way" if isinstance(exc, (FileExistsError, NotADirectoryError)) \
             else _os_cause(exc)
         raise InputError(f"cannot write an output folder here: {cause}", file=path, entry=option,
-                         fix="give a writable folder (not a file, not under a file)")
+                         fix="give a writable folder (not a file, not under a file)") from exc
     return path
 
 
@@ -88,7 +89,7 @@ def writable_file(path, option="-o") -> Path:
         info = None
     except (OSError, ValueError) as exc:
         raise InputError(f"cannot write here: {_os_cause(exc)}", file=path, entry=option,
-                         fix="give the path of a new or regular file in a writable folder")
+                         fix="give the path of a new or regular file in a writable folder") from exc
     if info is not None and not stat.S_ISREG(info.st_mode):
         kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file"
         raise InputError(f"cannot write here: {kind}", file=path, entry=option,

@@ -23,7 +23,9 @@ class Status(str, Enum):
     """A campaign run that raised before or outside the master (e.g. a draw the FMU rejects)."""
 
     __str__ = str.__str__
-    __format__ = str.__format__
+
+    def __format__(self, format_spec: str) -> str:
+        return str.__format__(self, format_spec)
 
     @property
     def ended_cleanly(self) -> bool:

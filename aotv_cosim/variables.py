@@ -7,6 +7,7 @@ declared). For a wiring the table also names the component and gives `value`: wh
 """
 
 from pathlib import Path
+from typing import cast
 
 import pandas as pd
 
@@ -58,7 +59,8 @@ def _with_items(variable) -> str:
 
 def describe(target) -> pd.DataFrame:
     """The variables of `target`: an FMU of fmus_src by name, a .fmu/.ssp file, a .py FMU source
-    (built first, `fmu.build.ensure_fmu`), a wiring or a scenario file (its system, with the scenario's overrides), or a loaded System/Scenario."""
+    (built first, `fmu.build.ensure_fmu`), a wiring or a scenario file (its system, with the scenario's overrides), or a
+    loaded System/Scenario."""
     from aotv_cosim.model.scenario import Scenario
     from aotv_cosim.simulation.loading import load_scenario
     from aotv_cosim.model.fmu_file import read_fmu, resolve_fmu
@@ -73,7 +75,7 @@ def describe(target) -> pd.DataFrame:
     text = str(target)
     path = Path(text)
     if path.suffix in (".fmu", ".py") or (not path.suffix and not path.exists()):
-        fmu = resolve_fmu(text, Path.cwd(), built_fmu, file=text, entry="FMU")
+        fmu = cast(Path, resolve_fmu(text, Path.cwd(), built_fmu, file=text, entry="FMU"))  # built_fmu: a file
         return pd.DataFrame(fmu_rows(read_fmu(fmu, file=text, entry="FMU")), columns=list(COLUMNS),
                             dtype=object)  # an Integer's start stays an integer beside Real ones
     if not path.is_file():  # a folder, a device or a FIFO is there, or nothing

@@ -69,8 +69,8 @@ def us_per_step(tree: Path, cache, scenario: Path, fmi_calls=None) -> float:
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
     if cache is not None:
         env["AOTV_COSIM_CACHE"] = str(cache)
-    done = subprocess.run([sys.executable, "-c", STEP, str(scenario)] + ([fmi_calls] if fmi_calls else []), cwd=tree, env=env, check=True,
-                          capture_output=True, text=True)
+    done = subprocess.run([sys.executable, "-c", STEP, str(scenario)] + ([fmi_calls] if fmi_calls else []),
+                          cwd=tree, env=env, check=True, capture_output=True, text=True)
     return float(done.stdout.split()[-1])
 
 

@@ -36,7 +36,8 @@ def one_run(scenario, calls):
 
 def measure(repeats: int) -> dict:
     """{way: {"cpu": median us/step, "wall": median us/step}} over `repeats` interleaved rounds."""
-    scenarios = {"stock": with_wrapper("stock", load_scenario, NOMINAL), "lean": with_wrapper("lean", load_scenario, NOMINAL)}
+    scenarios = {"stock": with_wrapper("stock", load_scenario, NOMINAL),
+                 "lean": with_wrapper("lean", load_scenario, NOMINAL)}
     ways = {"stock": (scenarios["stock"], "c"), "lean": (scenarios["lean"], "c"),
             "direct": (scenarios["lean"], "direct")}
     for scenario, calls in ways.values():  # warm-up: extraction, imports

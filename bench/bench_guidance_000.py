@@ -17,10 +17,10 @@ import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from aotv_cosim.guidance.optimal_bvp import solve_min_effort  # noqa: E402
-from aotv_cosim.guidance.predictive import fly_time_linear, solve_predictive  # noqa: E402
-from aotv_cosim.physics.planar import ENTRY_000, K_BALL_000  # noqa: E402
-from timing import median_seconds  # noqa: E402 (bench/timing.py, beside this script)
+from aotv_cosim.guidance.optimal_bvp import solve_min_effort
+from aotv_cosim.guidance.predictive import fly_time_linear, solve_predictive
+from aotv_cosim.physics.planar import ENTRY_000, K_BALL_000
+from timing import median_seconds
 
 TARGET_S = 0.050
 """Median solve-time target of the predictive law, s."""

@@ -18,10 +18,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout, not an installed copy
-from aotv_cosim.guidance import mae  # noqa: E402
-from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw  # noqa: E402
-from aotv_cosim.physics import mrrv, point_mass  # noqa: E402
-from timing import median_seconds  # noqa: E402 (bench/timing.py, beside this script)
+from aotv_cosim.guidance import mae
+from aotv_cosim.guidance.mae_guided import MaeGuidanceLaw
+from aotv_cosim.physics import mrrv, point_mass
+from timing import median_seconds
 
 MODEL = mae.MaeModel()
 ENTRY = mae.State(MODEL.r_earth + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
@@ -64,7 +64,7 @@ def main():
     per_case = {mae.ENTRY: [], mae.EXIT: []}
     for state, previous in cases:
         mode = mae.solve(state, TARGETS, previous).mode
-        per_case[mode].append(median_seconds(lambda: mae.solve(state, TARGETS, previous), args.repeats))
+        per_case[mode].append(median_seconds(lambda s=state, p=previous: mae.solve(s, TARGETS, p), args.repeats))
     every = per_case[mae.ENTRY] + per_case[mae.EXIT]
     cold = median_seconds(lambda: mae.solve(ENTRY, TARGETS), args.repeats)
     warm = statistics.median(every)

@@ -20,6 +20,7 @@ over the minutes the bench takes.
 """
 
 import argparse
+import itertools
 import json
 import math
 import statistics
@@ -59,7 +60,7 @@ def measure(scenario, signal, at, repeat=1):
         last = {}
         cpu0 = time.process_time()
         master = Master(scenario)
-        outcome = master.run(SimpleNamespace(record=lambda times, rows: last.update(row=rows[-1])))
+        outcome = master.run(SimpleNamespace(record=lambda times, rows, last=last: last.update(row=rows[-1])))
         cpus.append(time.process_time() - cpu0)
         assert outcome.status == "completed", outcome.error
     value = outcome.event["values"][signal] if at == "event" else float(last["row"][master.index[signal]])
@@ -86,7 +87,7 @@ def against_fixed(scenario, error, first_cpu, fixed, repeat):
     is interpolated between the two runs of `fixed` [(error, scenario)] whose errors bracket
     `error`, made in the same round; the ratio is None outside the curve."""
     points = sorted(fixed, key=lambda p: p[0])
-    pairs = [(a, b) for a, b in zip(points, points[1:]) if a[0] <= error <= b[0] and a[0] > 0]
+    pairs = [(a, b) for a, b in itertools.pairwise(points) if a[0] <= error <= b[0] and a[0] > 0]
     cpus, ratios = [], []
     for k in range(repeat):
         cpus.append(cpu_of(scenario) if k else first_cpu)

@@ -242,7 +242,7 @@ def target_accuracy(repeats):
         walls.append(outcome.wall_time)
         event = outcome.event
         m = Master(nominal)
-        m.run(SimpleNamespace(record=lambda t, r: last.append(r[-1])))
+        m.run(SimpleNamespace(record=lambda t, r, last=last: last.append(r[-1])))
         final = {s: last[-1][i] for s, i in m.index.items()}
     wall = statistics.median(walls)
     dv = event["values"]["vehicle.v"] - ref_exit.event["vehicle.v"]

@@ -6,13 +6,13 @@ import os
 # Tiny matrices are ~30x slower with OpenBLAS's thread pool on 2 shared cores.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import json  # noqa: E402
-import textwrap  # noqa: E402
-from pathlib import Path  # noqa: E402
+import json
+import textwrap
+from pathlib import Path
 
-import pytest  # noqa: E402
+import pytest
 
-from tests.helpers import NOMINAL, WIRING, drawing  # noqa: E402
+from tests.helpers import NOMINAL, WIRING, drawing
 
 
 def pytest_collection_modifyitems(config, items):

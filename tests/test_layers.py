@@ -9,15 +9,17 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "aotv_cosim"
 
-LAYERS = ("errors", "paths", "status", "physics", "guidance", "fmu", "laws", "mission", "model", "simulation", "output", "ssp", "variables",
-          "studies", "options", "campaigns", "api", "cli_usage", "cli_console", "cli", "__main__")
+LAYERS = ("errors", "paths", "status", "physics", "guidance", "fmu", "laws", "mission", "model", "simulation", "output",
+          "ssp", "variables", "studies", "options", "campaigns", "api", "cli_usage", "cli_console", "cli", "__main__")
 """Bottom to top: each unit (a subpackage or a top-level module) may import its own modules and
 the units before it. errors and paths: what every layer reports and checks input files with;
 status: how a run ended;
 physics and guidance: the equations and laws (FMUs bundle them); fmu: the FMU side (adapter
 bases, build); mission: what a run achieved (capture class, apogee, correction dv); model:
 systems and scenarios read from wiring JSON or SSP; simulation: instances, coupling and the
-master's loops; output: run files, summary and plots; ssp: export and third-party hosts; variables (the describe table), studies: built on runs; options: every command's options, checked in one place; campaigns: built on runs, given the options whole; api and cli: the two faces."""
+master's loops; output: run files, summary and plots; ssp: export and third-party hosts; variables
+(the describe table), studies: built on runs; options: every command's options, checked in one
+place; campaigns: built on runs, given the options whole; api and cli: the two faces."""
 
 
 def _unit(module: str) -> str:

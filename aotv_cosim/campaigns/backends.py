@@ -17,6 +17,7 @@ import math
 import multiprocessing
 import os
 import time
+from typing import Any
 
 from threadpoolctl import threadpool_limits
 
@@ -40,7 +41,7 @@ __all__ = ["Dask", "Local", "batches", "failed_row", "opened", "stream", "usable
 def failed_row(columns, run, values, error) -> dict:
     """The row of a run that gave none (its worker was lost, or its task raised): status 'failed',
     the cause in `error` (a WorkerLost's message as it is, else the exception's type and message)."""
-    row = dict.fromkeys(columns, math.nan)
+    row: dict[str, Any] = dict.fromkeys(columns, math.nan)
     row.update({f"dispersed.{k}": v for k, v in values.items()})
     cause = str(error) if isinstance(error, WorkerLost) else f"{type(error).__name__}: {error}"
     row.update(run=run, status=Status.FAILED, error=cause)
@@ -129,7 +130,8 @@ class Local:
             try:
                 rows = [task.result()]
             except Exception as exc:  # WorkerLost, or an error outside a run
-                rows = [failed_row(self.columns, *item, exc)]
+                run, values = item
+                rows = [failed_row(self.columns, run, values, exc)]
             done.append(([item], rows))
         return done
 
@@ -189,7 +191,8 @@ class Dask:
                         for item in batch:
                             self.submit(ref, [item])
                     else:
-                        results.append((list(batch), [failed_row(self.columns, *batch[0], exc)]))
+                        run, values = batch[0]
+                        results.append((list(batch), [failed_row(self.columns, run, values, exc)]))
                 finally:
                     future.release()
             if results or not self.futures:

@@ -18,6 +18,7 @@ import hashlib
 import json
 import resource
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
@@ -288,7 +289,7 @@ def score_columns(metrics=METRICS, roles=False) -> list:
         [("runs", "1"), ("capture_rate", "%")] + [(o, "1") for o in OUTCOMES]
     for column, _, unit, percents in metrics:
         cols += [(f"{column.split('.', 1)[1]}_p{p:g}", unit) for p in percents]
-    return cols + [("cpu_per_run", "s")]
+    return [*cols, ("cpu_per_run", "s")]
 
 
 def score(law, rows, cpu_per_run, metrics=METRICS) -> dict:
@@ -322,7 +323,7 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
     its finished runs): the result has status "interrupted", the laws done so far, and the
     folder's scorecard files are not written. `options.fmi_calls` does not change the rows, so it
     is not part of the key."""
-    out = Path(options.out)
+    out = Path(cast(Path, options.out))  # the API gives a temporary folder when the caller gives none
     set_scenarios = scenarios_of(options.scenario_set)
     created = not out.exists()
     try:
@@ -342,7 +343,10 @@ def run_benchmark(options: BenchmarkOptions, echo=None) -> dict:
 
 
 def _benchmark(options, out, flown, limits, oracle, echo) -> dict:
-    summaries, rows_by_law, cpu, units = {}, {}, {}, None
+    summaries: dict = {}
+    rows_by_law: dict = {}
+    cpu: dict = {}
+    units: dict = {}
     status = Status.COMPLETED
     for law, (path, scenario) in flown.items():
         key = campaign_key(path, scenario, options.runs, options.seed)

@@ -67,7 +67,7 @@ def console(cards, units) -> str:
     widths = [max(len(c) for c in col) for col in zip(*lines)]
     text = ["  ".join(c.ljust(w) if k == 0 else c.rjust(w) for k, (c, w) in enumerate(zip(line, widths)))
             for line in lines]
-    return "\n".join(text + [_oracle_note(cards, "\n")] if oracle_score.ROLE in units else text)
+    return "\n".join([*text, _oracle_note(cards, "\n")] if oracle_score.ROLE in units else text)
 
 
 def _oracle_note(cards, sep) -> str:
@@ -102,13 +102,13 @@ def markdown(result, cards, units) -> str:
 
 def plots(out_dir, rows_by_law, band=None, panels=PANELS, oracle=None) -> list:
     """benchmark.png: the outcome classes of each law (stacked bars, the campaign plots' colours),
-    then one panel per metric of `panels` (`PANELS`, `panels_of`), the laws side by side as box plots (median, quartiles,
-    whiskers at the 0.135 / 99.865 percentiles, runs beyond them as points) over the completed runs
+    then one panel per metric of `panels` (`PANELS`, `panels_of`), the laws side by side as box plots (median,
+    quartiles, whiskers at the 0.135 / 99.865 percentiles, runs beyond them as points) over the completed runs
     with a finite value, in display units (km, W/cm2, kJ/cm2, g); the apogee error on a
     symmetric-log axis (linear within +-1 km) with the capture band (+-band m) shaded; every other
     metric on an axis clipped to the laws' far-out fences when runs lie beyond them (`plot_axes`
-    says why), those runs drawn as triangles on its edge and counted in the legend. The capture rate is under each law's name
-    (the set's `oracle`, if named, marked as the bound); the last cell holds the outcome classes' legend."""
+    says why), those runs drawn as triangles on its edge and counted in the legend. The capture rate is under each law's
+    name (the set's `oracle`, if named, marked as the bound); the last cell holds the outcome classes' legend."""
     import matplotlib
 
     matplotlib.use("Agg")

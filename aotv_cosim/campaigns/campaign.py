@@ -4,6 +4,7 @@ import contextlib
 import json
 import time
 from pathlib import Path
+from typing import IO, cast
 
 from aotv_cosim.campaigns import backends, report, statistics
 from aotv_cosim.campaigns.draws import draw
@@ -44,7 +45,8 @@ def run_campaign(options: CampaignOptions) -> dict:
     summary.json says status 'interrupted', and `resume` runs the rest. A run that passes the step
     limit or the memory limit, or crashes its worker, is a 'failed' row with the cause (`pool`).
     """
-    ref = ScenarioRef.of(Path(options.scenario).resolve(), options.overrides, options.start, options.stop)
+    scenario = cast(Path, options.scenario)  # a loaded Scenario is given as its path (`CampaignOptions`)
+    ref = ScenarioRef.of(Path(scenario).resolve(), options.overrides, options.start, options.stop)
     return fly(ref, ref.load(), options, options.out)
 
 
@@ -73,7 +75,8 @@ class Failures:
     of an earlier campaign in the folder, a resumed one continues it."""
 
     def __init__(self, path: Path, resume: bool):
-        self.path, self.file = path, None
+        self.path = path
+        self.file: IO[str] | None = None
         if not resume:
             path.unlink(missing_ok=True)
 
@@ -158,7 +161,7 @@ def _campaign(ref, scenario, out, options):
             bar.close()
     wall = time.perf_counter() - t0
     rows = store.close()
-    statuses = {}
+    statuses: dict = {}
     for r in rows:  # keyed by the text, as campaign.json and the console show it
         statuses[str(r["status"])] = statuses.get(str(r["status"]), 0) + 1
     summary = {

@@ -66,8 +66,8 @@ def check_reachable(address: str) -> None:
         return
     try:
         host, port = parts.hostname, parts.port
-    except ValueError as exc:
-        host, port = None, exc
+    except ValueError:  # a port that is no number or out of range
+        host, port = None, None
     if not host or not isinstance(port, int):
         raise InputError("cannot read the scheduler address", file=address, entry="--scheduler",
                          fix="give tcp://HOST:PORT (e.g. tcp://127.0.0.1:8786)")

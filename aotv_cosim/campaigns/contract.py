@@ -80,7 +80,7 @@ def of_set(set_scenarios) -> list:
         fed = "".join(f"{c.source}.{c.output}" for c in first.system.connections
                       if f"{c.target}.{c.input}" == plant.command)
         needs.append(_need(first.system, plant.command, "command", (f"fed by {fed} in {first_path.name}",)))
-    outputs = {}
+    outputs: dict = {}
     for signal in first.record:
         outputs.setdefault(signal, []).append("record")
     for c in first.stop_conditions:
@@ -141,7 +141,7 @@ def check(needs, system, file, set_name, entry_prefix="") -> None:
     def problem(cause, entry, fix):
         problems.append(InputError(cause, file=file, entry=f"{entry_prefix}{entry}", fix=fix))
 
-    missing = {}
+    missing: dict = {}
     for need in needs:
         if need.component not in system.components:
             missing.setdefault(need.component, []).append(need)

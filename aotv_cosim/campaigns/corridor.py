@@ -6,6 +6,7 @@ aerocapture study uses the same code in-process).
 
 import math
 from pathlib import Path
+from typing import Any, cast
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.options import CorridorOptions
@@ -48,14 +49,14 @@ def run_corridor(options: CorridorOptions) -> dict:
     lift_to_drag = core.lift_to_drag_flown(plant, options.lift_to_drag, scenario_path)
     core.check_flyable(scenario, plant, options.overrides)
     signal, step = core.gamma0_signal(scenario), core.step_flown(scenario, options.step)
-    out = Path(options.out)
+    out = Path(cast(Path, options.out))  # the API gives a temporary folder when the caller gives none
     with interrupts.deferred(), claimed(out, CORRIDOR_OUTPUTS):
         paths = core.write_scenarios(scenario, plant, ("lift_up", "lift_down"), lift_to_drag, step, out,
                                      options.overrides)
         found = core.searches(plant, paths, core.bounds(options.aim, scenario.outcome.band),
                               core.nominal_gamma0(scenario), options.angle_tolerance, options.tolerance,
                               options.bracket)
-        result = {"scenario": str(scenario_path), "plant": plant.kind, "control": plant.control,
+        result: dict[str, Any] = {"scenario": str(scenario_path), "plant": plant.kind, "control": plant.control,
                   "removed": list(plant.removed),
                   "lift_to_drag": plant.lift_to_drag if plant.kind == core.BANK else lift_to_drag,
                   "aim": options.aim, "tolerance_m": options.tolerance, "angle_tolerance_rad": options.angle_tolerance,
@@ -90,7 +91,7 @@ def _search(searches: dict, signal, options, flown) -> dict:
     refs = {bound: ScenarioRef.of(search.path.resolve()) for bound, search in searches.items()}
     interrupted = True
     try:
-        asked = {}
+        asked: dict = {}
 
         def ask(bound):
             gamma0 = searches[bound].next()

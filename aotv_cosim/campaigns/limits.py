@@ -26,7 +26,8 @@ LIMITED = (("load_factor", "outcome.peak_load_factor", "1"),
 def of_set(loaded) -> dict:
     """The limits of a set's scenarios, [(path, loaded Scenario)] ({} when none states any);
     InputError when two differ."""
-    found, first = {}, None
+    found: dict = {}
+    first = None
     for path, scenario in loaded:
         limits = scenario.outcome.limits.stated() if scenario.outcome is not None else {}
         if first is None:
@@ -49,7 +50,7 @@ def columns(limits: dict) -> list:
             ("saturation_time_p50", "s"), ("saturation_time_p99.865", "s"),
             ("reversals_p50", "1"), ("reversals_max", "1")]
     cols += [(f"over_{name}", "1") for name, _, _ in LIMITED if name in limits]
-    return cols + [("over_any_limit", "1")]
+    return [*cols, ("over_any_limit", "1")]
 
 
 def _values(rows, column) -> np.ndarray:
@@ -77,9 +78,9 @@ def score(rows, limits: dict, vehicle: str = "vehicle") -> dict:
             "saturation_time_p50": pct("outcome.saturation_time", 50.0),
             "saturation_time_p99.865": pct("outcome.saturation_time", 99.865)}
     at_exit, at_end = _reversal_column(done, "exit"), _reversal_column(done, "final")
-    reversals = [float(r.get(at_exit if math.isfinite(float(r.get("exit.time", math.nan))) else at_end, math.nan))
-                 for r in done]
-    reversals = np.array([x for x in reversals if math.isfinite(x)])
+    flown = [float(r.get(at_exit if math.isfinite(float(r.get("exit.time", math.nan))) else at_end, math.nan))
+             for r in done]
+    reversals = np.array([x for x in flown if math.isfinite(x)])
     card["reversals_p50"] = float(np.percentile(reversals, 50.0)) if len(reversals) else None
     card["reversals_max"] = float(reversals.max()) if len(reversals) else None
     over_any = np.zeros(len(done), dtype=bool)

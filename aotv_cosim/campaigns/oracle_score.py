@@ -93,4 +93,4 @@ def _captured(row) -> bool:
 def with_penalty(metrics) -> tuple:
     """`metrics` (`benchmark.METRICS`) with the penalty's entry after the correction dv's."""
     at = next((k + 1 for k, entry in enumerate(metrics) if entry[0] == "outcome.dv_total"), len(metrics))
-    return tuple(metrics[:at]) + (METRIC,) + tuple(metrics[at:])
+    return (*metrics[:at], METRIC, *metrics[at:])

@@ -112,10 +112,12 @@ def scatter_by_outcome(ax, x, y, classes, scale: Scale, floor_label=True) -> dic
             ax.plot(x[pick & inside], y[pick & inside], ".", ms=3.5, alpha=0.75, color=color_of(cls))
         handles[_name(cls)] = plt.Line2D([], [], marker="o", ls="", color=color_of(cls), label=_name(cls))
     if scale.limits is not None:
-        for mask, edge, marker, side in ((below, scale.limits[0], "v", "below"), (above, scale.limits[1], "^", "above")):
+        for mask, edge, marker, side in ((below, scale.limits[0], "v", "below"),
+                                         (above, scale.limits[1], "^", "above")):
             mask = mask & finite
             if mask.any():
-                ax.scatter(x[mask], np.full(mask.sum(), edge), marker=marker, s=22, c=[color_of(c) for c in classes[mask]],
+                ax.scatter(x[mask], np.full(mask.sum(), edge), marker=marker, s=22,
+                           c=[color_of(c) for c in classes[mask]],
                            edgecolors="black", linewidths=0.4, zorder=3, clip_on=False)
                 label = f"{mask.sum()} {side} the axis (to {_extreme(y[mask], side):.4g})"
                 handles[label] = plt.Line2D([], [], marker=marker, ls="", color="0.5", markeredgecolor="black",
@@ -149,7 +151,8 @@ def histogram_by_outcome(ax, values, classes, scale: Scale, count: int) -> dict:
     handles = {_name(c): plt.Rectangle((0, 0), 1, 1, color=color_of(c), label=_name(c)) for c in order}
     if scale.limits is not None:
         width = (edges[-1] - edges[0]) / count
-        for mask, edge, side, offset in ((below, scale.limits[0], "below", -width), (above, scale.limits[1], "above", 0.0)):
+        for mask, edge, side, offset in ((below, scale.limits[0], "below", -width),
+                                         (above, scale.limits[1], "above", 0.0)):
             if mask.any():
                 ax.bar(edge + offset, mask.sum(), width=width, align="edge", color="none", edgecolor="black",
                        hatch="///", linewidth=0.6)

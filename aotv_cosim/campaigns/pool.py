@@ -26,6 +26,7 @@ destructors), and returns their exit codes.
 """
 
 import collections
+import contextlib
 import math
 import os
 import signal
@@ -80,7 +81,7 @@ def _serve(conn, progress, initializer, initargs, finalizer):
                 break
             fn, args = call
             try:
-                answer = (fn(*args), None)
+                answer: tuple = (fn(*args), None)
             except Exception as exc:
                 answer = (None, exc)
             try:
@@ -101,7 +102,7 @@ class _Worker:
                                        args=(child, self.progress, initializer, initargs, finalizer))
         self.process.start()
         child.close()
-        self.tasks = collections.deque()
+        self.tasks: collections.deque = collections.deque()
         """Tasks sent and not answered, oldest (the one under way) first."""
         self.seen = (None, time.monotonic())
         """(step count last seen, monotonic time it was first seen)."""
@@ -149,8 +150,8 @@ class WorkerPool:
         self.size, self.context = max_workers, mp_context
         self.start_args = (initializer, initargs, finalizer)
         self.step_limit, self.max_rss = step_limit, max_rss
-        self.queue = collections.deque()
-        self.finished = collections.deque()
+        self.queue: collections.deque = collections.deque()
+        self.finished: collections.deque = collections.deque()
         """Tasks done since `completed` last looked."""
         self.workers = []
         self.exitcodes = []
@@ -250,10 +251,8 @@ class WorkerPool:
         while wait and any(w.tasks for w in self.workers):
             self.poll(POLL)
         for worker in self.workers:
-            try:
+            with contextlib.suppress(OSError):
                 worker.conn.send(None)
-            except OSError:
-                pass
         for worker in self.workers:
             worker.process.join()
             self.exitcodes.append(worker.process.exitcode)

@@ -25,8 +25,8 @@ def default_columns(scenario) -> list:
     inputs, the outcome metrics if runs are classified, else the exit (or final) values."""
     names = [f"dispersed.{d.signal}" for d in scenario.dispersions]
     if scenario.outcome is not None:
-        return names + ["outcome.apogee_error", "outcome.dv_total", "outcome.peak_heat_rate",
-                        "outcome.peak_load_factor", "outcome.int_abs_u"]
+        return [*names, "outcome.apogee_error", "outcome.dv_total", "outcome.peak_heat_rate",
+                "outcome.peak_load_factor", "outcome.int_abs_u"]
     at = "exit" if scenario.stop_conditions else "final"
     return names + [f"{at}.{s}" for s in scenario.record]
 
@@ -49,13 +49,13 @@ def _number(v) -> str:
     return "nan" if not math.isfinite(v) else f"{v:.6g}"
 
 
-def console_table(table: dict, units: dict, outcomes: dict = None) -> str:
+def console_table(table: dict, units: dict, outcomes: dict | None = None) -> str:
     """Plain-text statistics table (one line per column, unit beside the name) and the
     outcome counts, as printed after a campaign: in display units (km, km/s, W/cm2, kJ/cm2, g;
     `units.display`), while summary.json and report.md keep SI."""
     from aotv_cosim.output.display_units import display
 
-    heads = ("column", "unit") + FIELDS
+    heads = ("column", "unit", *FIELDS)
     lines = []
     for name, stats in table.items():
         shown, factor = display(name, units.get(name, ""))

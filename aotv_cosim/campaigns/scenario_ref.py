@@ -3,7 +3,7 @@ or Dask task in place of the loaded scenario, which holds FMU files and is not m
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping, Optional
+from collections.abc import Mapping
 
 from aotv_cosim.model.scenario import Scenario
 
@@ -19,14 +19,14 @@ class ScenarioRef:
     """The scenario file (absolute, so a worker in another folder finds it)."""
     sets: tuple = ()
     """The --set overrides as ('comp.var', value) pairs, in the order given."""
-    start: Optional[float] = None
+    start: float | None = None
     """--start, s (None: the scenario's)."""
-    stop: Optional[float] = None
+    stop: float | None = None
     """--stop, s (None: the scenario's)."""
 
     @classmethod
-    def of(cls, path, sets: Optional[Mapping] = None, start: Optional[float] = None,
-           stop: Optional[float] = None) -> "ScenarioRef":
+    def of(cls, path, sets: Mapping | None = None, start: float | None = None,
+           stop: float | None = None) -> "ScenarioRef":
         """The reference of scenario file `path` with --set values `sets` ({'comp.var': value})."""
         return cls(str(path), tuple((sets or {}).items()), start, stop)
 

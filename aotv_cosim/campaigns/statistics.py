@@ -24,7 +24,7 @@ def sample_statistics(x: np.ndarray, percentiles) -> dict:
     of the values `x` (not empty), in their unit. Values near the float range may give an infinite
     mean or std (the result files write it as text), without a warning."""
     with np.errstate(over="ignore", invalid="ignore"):
-        return {"n": int(len(x)), "mean": float(x.mean()), "std": float(x.std(ddof=1)) if len(x) > 1 else 0.0,
+        return {"n": len(x), "mean": float(x.mean()), "std": float(x.std(ddof=1)) if len(x) > 1 else 0.0,
                 "min": float(x.min()), "max": float(x.max()),
                 **{f"p{p:g}": float(v) for p, v in zip(percentiles, np.percentile(x, percentiles))}}
 
@@ -34,7 +34,7 @@ def statistics(rows, columns) -> dict:
     finite value is left out)."""
     stats = {}
     for name in columns:
-        x = completed_values(rows, name) if name not in TEXT_COLUMNS else []
+        x = completed_values(rows, name) if name not in TEXT_COLUMNS else np.array([])
         if len(x):
             stats[name] = sample_statistics(x, PERCENTILES)
     return stats

@@ -5,6 +5,7 @@ a resumed campaign ends with the same files as an uninterrupted one. campaign.js
 the rows belong to (scenario, seed, runs, dispersions); --resume refuses a different campaign.
 """
 
+import contextlib
 import csv
 import json
 import math
@@ -62,7 +63,7 @@ class RowStore:
                              fix="remove rows.csv to start the campaign again, or give a new --out")
         manifest_path.write_text(json.dumps(manifest, indent=2) + "\n")
         self._rewrite(self.rows.values(), self.csv)
-        self.file = open(self.csv, "a", newline="")
+        self.file = open(self.csv, "a", newline="")  # noqa: SIM115 - appended run by run; `close` closes it
         self.writer = csv.writer(self.file, lineterminator="\n")
 
     def _read(self) -> dict:
@@ -104,10 +105,8 @@ class RowStore:
 
     def close(self) -> list:
         """Rewrite rows.csv sorted by run, write rows.parquet; returns the sorted rows."""
-        try:
+        with contextlib.suppress(OSError):  # what the last flush could not write is rewritten below
             self.file.close()
-        except OSError:  # what the last flush could not write is rewritten below
-            pass
         rows = [self.rows[k] for k in sorted(self.rows)]
         self._rewrite(rows, self.csv)
         write_parquet(rows, self.columns, self.out / "rows.parquet", self.units)

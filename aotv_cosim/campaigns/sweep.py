@@ -15,6 +15,7 @@ sweep.parquet (units in the field metadata), sweep.json (grids, units, wall time
 import itertools
 import time
 from pathlib import Path
+from typing import cast
 
 from aotv_cosim.campaigns import backends
 from aotv_cosim.campaigns.scenario_ref import ScenarioRef
@@ -56,7 +57,7 @@ def run_sweep(options: SweepOptions) -> dict:
     points = grid_points(options.grids)
     with interrupts.deferred(), claimed(options.out, SWEEP_OUTPUTS):
         rows, status, wall = _fly(ref, scenario, options, points, names, parameters, keep)
-        out = Path(options.out)
+        out = Path(cast(Path, options.out))  # the API gives a temporary folder when the caller gives none
         write_parquet(rows, keep, out / "sweep.parquet", units)
         _write_csv(out / "sweep.csv", rows, keep, units)
         result = {"status": status.value, "scenario": str(scenario_path), "parameters": parameters,

@@ -8,6 +8,7 @@ no timing, so the same run gives the same row on any worker and backend.
 
 import math
 import threading
+from typing import Any
 
 import numpy as np
 
@@ -45,7 +46,9 @@ class _Extrema:
     def __init__(self, master, signals, spacing=None):
         self.master, self.signals = master, signals
         self.select = None
-        self.last = self.low = self.high = None
+        self.last: np.ndarray | None = None
+        self.low: np.ndarray | None = None
+        self.high: np.ndarray | None = None
         self.time = math.nan
         """Time of the last row recorded, s."""
         self.spacing, self.series, self.kept_at = spacing, [], -math.inf
@@ -75,7 +78,7 @@ class _Extrema:
 class Runner:
     """Runs draws of one scenario on FMUs kept between runs."""
 
-    def __init__(self, ref: ScenarioRef, options: RunsOptions = None):
+    def __init__(self, ref: ScenarioRef, options: RunsOptions | None = None):
         """options: the command's options (None: the defaults of `RunsOptions`), of which a runner
         uses `keep_series` (keep each run's recorded signals, decimated to `SERIES_POINTS`),
         `step_limit` (the wall-clock limit per step, `simulation.watchdog`) and `fmi_calls` (how
@@ -86,7 +89,7 @@ class Runner:
         self.spacing = (self.scenario.stop - self.scenario.start) / SERIES_POINTS if options.keep_series else None
         self.signals = numeric_columns(self.scenario)
         self.columns = columns(self.scenario)
-        self.pool = {}
+        self.pool: dict = {}
         self.fmi_calls = options.fmi_calls
 
     def run(self, run: int, values: dict) -> dict:
@@ -101,7 +104,7 @@ class Runner:
         return row
 
     def _run(self, run: int, values: dict) -> dict:
-        row = dict.fromkeys(self.columns, math.nan)
+        row: dict[str, Any] = dict.fromkeys(self.columns, math.nan)
         row.update(run=run, status=Status.ERROR, error="")
         row.update({f"dispersed.{k}": v for k, v in values.items()})
         try:
@@ -119,11 +122,12 @@ class Runner:
                 row["failure"] = {key: outcome.error_detail.get(key) for key in ("traceback", "source")}
         if self.spacing is not None:
             row["series"] = extrema.kept()
-        if extrema.last is not None:
+        last, low, high = extrema.last, extrema.low, extrema.high
+        if last is not None and low is not None and high is not None:  # all three or none (`record`)
             for k, s in enumerate(self.signals):
-                row[f"final.{s}"] = float(extrema.last[k])
-                row[f"min.{s}"] = float(extrema.low[k])
-                row[f"max.{s}"] = float(extrema.high[k])
+                row[f"final.{s}"] = float(last[k])
+                row[f"min.{s}"] = float(low[k])
+                row[f"max.{s}"] = float(high[k])
         if outcome.event:
             row["exit.time"] = float(outcome.event["time"])
             row.update({f"exit.{s}": float(outcome.event["values"][s]) for s in self.signals})

@@ -54,8 +54,8 @@ from aotv_cosim.fmu import source_check
 from aotv_cosim.paths import regular_file, resolved
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
-RUNTIME = ("__init__.py", "laws.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py", "fmu/guidance_slave.py",
-           "fmu/bank_guidance.py", "fmu/vehicle_slave.py", "physics", "guidance")
+RUNTIME = ("__init__.py", "laws.py", "fmu/__init__.py", "fmu/slave.py", "fmu/actuator_slave.py",
+           "fmu/guidance_slave.py", "fmu/bank_guidance.py", "fmu/vehicle_slave.py", "physics", "guidance")
 """Paths inside aotv_cosim that every FMU bundles (they import numpy, scipy and pythonfmu only)."""
 RUNTIME_PATTERNS = ("*.py", "*.csv")
 """Files bundled from the RUNTIME folders: modules and the data tables they read beside them."""
@@ -70,7 +70,7 @@ WRAPPER_INFO = "resources/aotv_cosim_wrapper.txt"
 PYTHONFMU_DIR = Path(pythonfmu.__file__).resolve().parent
 """pythonfmu's package: its modules are bundled into every FMU, its binaries are the FMUs'."""
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
-BUILD_HOOKS = []
+BUILD_HOOKS: list = []
 """Callables hook(name, stage) told of every build `ensure_fmu` makes: stage "start" before it,
 "done" after (the command line's progress, aotv_cosim.fmu.build_progress)."""
 BUILD_FORMAT = ("6: explicit variability, Linux binary loads in C hosts, FMU state get/set, runtime "
@@ -291,7 +291,9 @@ def _pythonfmu_members(source: Path, found) -> dict:
         folder = path.relative_to(binaries).parent.as_posix()
         members[f"binaries/{folder}/{found.model_identifier}{path.suffix}"] = path.read_bytes()
     root = ElementTree.fromstring(found.model_description)
-    root.find("CoSimulation").set("canGetAndSetFMUstate", str(found.aotv_slave).lower())
+    co_simulation = root.find("CoSimulation")
+    assert co_simulation is not None  # pythonfmu writes it
+    co_simulation.set("canGetAndSetFMUstate", str(found.aotv_slave).lower())
     members["modelDescription.xml"] = ElementTree.tostring(root, encoding="UTF-8")
     return members
 
@@ -338,8 +340,12 @@ def renamed_imports(source: str, renames: dict, where: str) -> str:
     rewritten; a BuildError if an import of them is left (one the line-start rewrite cannot see)."""
     text = _TOP_IMPORT.sub(lambda m: m.group(1) + renames[m.group(2)], source)
     for node in ast.walk(ast.parse(text)):
-        names = [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else \
-            [alias.name for alias in node.names] if isinstance(node, ast.Import) else []
+        if isinstance(node, ast.ImportFrom) and not node.level:
+            names = [node.module or ""]
+        elif isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        else:
+            continue
         if any(n.split(".")[0] in renames for n in names):
             raise BuildError(f"an import of {', '.join(names)} at line {node.lineno} cannot be renamed",
                              file=where, fix="write it as `from package.module import name` on one line")
@@ -378,7 +384,7 @@ def _rewrite_reproducibly(members: dict, out: Path, digest: str, source: Path, f
     completed and reproducible, the Linux binary patched (`_patched_binary`), the build recorded."""
     members = isolate(members, source.stem, digest)
     members["modelDescription.xml"] = _reproducible_description(members["modelDescription.xml"], digest)
-    members[TOKEN_FILE] = (ElementTree.fromstring(members["modelDescription.xml"]).get("guid") + "\n").encode()
+    members[TOKEN_FILE] = (ElementTree.fromstring(members["modelDescription.xml"]).attrib["guid"] + "\n").encode()
     members[WRAPPER_INFO] = (_patched_binary(members, source, found) + "\n").encode()
     members[BUILD_INFO] = (digest + "\n").encode()
     write_reproducible_zip(out, members)

@@ -199,7 +199,9 @@ def _members(source: Path, kind: str, found, tmp: Path, digest: str) -> dict:
     members["modelDescription.xml"] = fmi3_description.finish(root, digest)
     token = root.get("instantiationToken")
     members[build.TOKEN_FILE] = f"{token}\n".encode()
-    native.patch_linux_binary(members, root.find("CoSimulation").get("modelIdentifier"), fmi_version=3)
+    co_simulation = root.find("CoSimulation")
+    assert co_simulation is not None  # fmi3_description writes it
+    native.patch_linux_binary(members, co_simulation.attrib["modelIdentifier"], fmi_version=3)
     members[build.BUILD_INFO] = f"{digest}\n".encode()
     return members
 
@@ -209,8 +211,8 @@ def _pythonfmu3_members(source: Path, found) -> dict:
     (`source_check.SourceClass`: its modelDescription made in the child process that imported the
     source), with this package's runtime as its project files: the module and slavemodule.txt
     naming it, pythonfmu3's modules and this package's runtime (with pythonfmu, which its step
-    contract imports) under resources/, and the modelDescription. The builder itself imports the source in the process that calls it (a hang,
-    sys.exit or two classes in the source would have met the command); its C++ sources and stock
+    contract imports) under resources/, and the modelDescription. The builder itself imports the source in the process
+    that calls it (a hang, sys.exit or two classes in the source would have met the command); its C++ sources and stock
     binaries are not used (the lean wrapper replaces them)."""
     import pythonfmu3
 

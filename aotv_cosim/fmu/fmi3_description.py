@@ -58,21 +58,21 @@ def from_fmi2(xml: bytes, starts: dict) -> Element:
     old = ElementTree.fromstring(xml)
     root = Element("fmiModelDescription", {"fmiVersion": "3.0"})
     for name in ROOT_ATTRIBUTES:
-        if old.get(name) is not None:
-            root.set(name, old.get(name))
+        if (value := old.get(name)) is not None:
+            root.set(name, value)
     root.set("instantiationToken", "")
-    cs = old.find("CoSimulation")
+    cs = _child(old, "CoSimulation")
     SubElement(root, "CoSimulation", _co_simulation(cs.get, cs.get("canGetAndSetFMUstate", "false"),
                                                      cs.get("canSerializeFMUstate", "false")))
-    variables = old.find("ModelVariables").findall("ScalarVariable")
-    references = [int(v.get("valueReference")) for v in variables]
+    variables = _child(old, "ModelVariables").findall("ScalarVariable")
+    references = [int(v.attrib["valueReference"]) for v in variables]
     units = old.find("UnitDefinitions")
     units = _copy(units) if units is not None else Element("UnitDefinitions")
     time = _time_variable(references, {v.get("name") for v in variables}, units)
     types = None
-    if old.find("TypeDefinitions") is not None:
+    if (definitions := old.find("TypeDefinitions")) is not None:
         types = Element("TypeDefinitions")
-        types.extend(_type_definition(simple) for simple in old.find("TypeDefinitions"))
+        types.extend(_type_definition(simple) for simple in definitions)
     root.append(units)  # never empty: it defines s, the unit of time
     if types is not None:
         root.append(types)
@@ -80,8 +80,8 @@ def from_fmi2(xml: bytes, starts: dict) -> Element:
         if element is not None:
             root.append(_copy(element))
     for category in root.iter("Category"):
-        if category.get("description"):
-            category.set("description", category.get("description").replace("fmi2", "fmi3"))
+        if description := category.get("description"):
+            category.set("description", description.replace("fmi2", "fmi3"))
     model_variables = SubElement(root, "ModelVariables")
     model_variables.append(time)
     by_index = {i + 1: vr for i, vr in enumerate(references)}
@@ -98,14 +98,14 @@ def complete(xml: bytes, starts: dict, can_get_and_set_state: bool, description=
     if description and not root.get("description"):
         root.set("description", description)
     root.set("instantiationToken", "")
-    cs = root.find("CoSimulation")
+    cs = _child(root, "CoSimulation")
     flags = _co_simulation(cs.get, "true" if can_get_and_set_state else "false", "false")
     cs.attrib.clear()
     cs.attrib.update(flags)
-    model_variables = root.find("ModelVariables")
+    model_variables = _child(root, "ModelVariables")
     declared = list(model_variables)
     for var in declared:
-        value = starts.get(int(var.get("valueReference")))
+        value = starts.get(int(var.attrib["valueReference"]))
         if var.tag == "Float64" and var.get("start") is not None and value is not None:
             var.set("start", _real_text(value))
     units = root.find("UnitDefinitions")
@@ -113,7 +113,7 @@ def complete(xml: bytes, starts: dict, can_get_and_set_state: bool, description=
         units = Element("UnitDefinitions")
         root.insert(list(root).index(cs) + 1, units)
     if not any(var.get("causality") == "independent" for var in declared):
-        model_variables.insert(0, _time_variable([int(v.get("valueReference")) for v in declared],
+        model_variables.insert(0, _time_variable([int(v.attrib["valueReference"]) for v in declared],
                                                  {v.get("name") for v in declared}, units))
     _define_units(units, {var.get("unit") for var in root.iter() if var.get("unit")})
     if not len(units):
@@ -139,9 +139,9 @@ def start_references(xml: bytes) -> list:
     states: those `starts` must give."""
     root = ElementTree.fromstring(xml)
     if root.get("fmiVersion", "").startswith("2"):
-        return [int(v.get("valueReference")) for v in root.iter("ScalarVariable")
+        return [int(v.attrib["valueReference"]) for v in root.iter("ScalarVariable")
                 if any(child.get("start") is not None for child in v)]
-    return [int(v.get("valueReference")) for v in root.find("ModelVariables")
+    return [int(v.attrib["valueReference"]) for v in _child(root, "ModelVariables")
             if v.get("start") is not None or v.find("Start") is not None]
 
 
@@ -152,6 +152,14 @@ def _co_simulation(get, can_get_and_set_state: str, can_serialize_state: str) ->
     return flags
 
 
+def _child(parent: Element, tag: str) -> Element:
+    """The child `tag` of `parent`, which every modelDescription pythonfmu writes has."""
+    child = parent.find(tag)
+    if child is None:
+        raise ValueError(f"the modelDescription has no {tag}")
+    return child
+
+
 def _copy(element: Element) -> Element:
     return ElementTree.fromstring(ElementTree.tostring(element))
 
@@ -159,9 +167,9 @@ def _copy(element: Element) -> Element:
 def _type_definition(simple: Element) -> Element:
     """FMI 2.0 SimpleType -> FMI 3.0 <Float64Type>, <Int32Type>, <EnumerationType> (Items kept), ..."""
     kind = simple[0]
-    node = Element(f"{TYPES[kind.tag]}Type", {"name": simple.get("name")})
-    if simple.get("description"):
-        node.set("description", simple.get("description"))
+    node = Element(f"{TYPES[kind.tag]}Type", {"name": simple.attrib["name"]})
+    if description := simple.get("description"):
+        node.set("description", description)
     node.attrib.update({k: v for k, v in kind.attrib.items() if k != "start"})
     for item in kind.findall("Item"):
         node.append(_copy(item))
@@ -193,21 +201,21 @@ def _define_units(units: Element, names: set) -> None:
         except ValueError:
             continue
         SubElement(SubElement(units, "Unit", name=name), "BaseUnit", {k: str(v) for k, v in exponents.items()})
-    units[:] = sorted(units, key=lambda unit: unit.get("name"))
+    units[:] = sorted(units, key=lambda unit: unit.attrib["name"])
 
 
 def _variable(var: Element, starts: dict, by_index: dict) -> Element:
     """One FMI 2.0 ScalarVariable as its FMI 3.0 typed variable."""
     typed = next(child for child in var if child.tag in TYPES)
-    node = Element(TYPES[typed.tag], {k: var.get(k) for k in VARIABLE_ATTRIBUTES if var.get(k) is not None})
+    node = Element(TYPES[typed.tag], {k: v for k in VARIABLE_ATTRIBUTES if (v := var.get(k)) is not None})
     if "variability" not in node.attrib:
         node.set("variability", "continuous" if typed.tag == "Real" else "discrete")
     for name in TYPED_ATTRIBUTES:
-        if typed.get(name) is not None:
-            node.set(name, typed.get(name))
-    if typed.get("derivative") is not None:
-        node.set("derivative", str(by_index[int(typed.get("derivative"))]))
-    vr = int(var.get("valueReference"))
+        if (value := typed.get(name)) is not None:
+            node.set(name, value)
+    if (derivative := typed.get("derivative")) is not None:
+        node.set("derivative", str(by_index[int(derivative)]))
+    vr = int(var.attrib["valueReference"])
     if typed.get("start") is not None and vr in starts:
         node.set("start", _start_text(typed.tag, starts[vr]))
     if typed.tag == "String" and node.get("start") is not None:
@@ -231,7 +239,7 @@ def _real_text(value) -> str:
     return XSD_SPECIAL.get(text, text)
 
 
-def _model_structure(root: Element, old: Element, by_index: dict) -> None:
+def _model_structure(root: Element, old: Element | None, by_index: dict) -> None:
     """FMI 2.0 Outputs/Derivatives/InitialUnknowns (indices) -> FMI 3.0 Output/ContinuousStateDerivative/
     InitialUnknown (value references)."""
     structure = SubElement(root, "ModelStructure")
@@ -240,8 +248,8 @@ def _model_structure(root: Element, old: Element, by_index: dict) -> None:
     for group, tag in (("Outputs", "Output"), ("Derivatives", "ContinuousStateDerivative"),
                        ("InitialUnknowns", "InitialUnknown")):
         for unknown in old.findall(f"{group}/Unknown"):
-            node = SubElement(structure, tag, valueReference=str(by_index[int(unknown.get("index"))]))
-            if unknown.get("dependencies") is not None:
-                node.set("dependencies", " ".join(str(by_index[int(i)]) for i in unknown.get("dependencies").split()))
-            if unknown.get("dependenciesKind") is not None:
-                node.set("dependenciesKind", unknown.get("dependenciesKind"))
+            node = SubElement(structure, tag, valueReference=str(by_index[int(unknown.attrib["index"])]))
+            if (dependencies := unknown.get("dependencies")) is not None:
+                node.set("dependencies", " ".join(str(by_index[int(i)]) for i in dependencies.split()))
+            if (kind := unknown.get("dependenciesKind")) is not None:
+                node.set("dependenciesKind", kind)

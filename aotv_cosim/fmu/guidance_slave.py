@@ -1,9 +1,9 @@
 """Adapter bases of the guidance FMUs.
 
-`EntryLatchedGuidance`: a law solved from the measured entry state, flown open loop. The subclass says how to solve (`solve`) and how to command from the solution (`command`); this
-base declares the measured entry-state inputs h, v, gamma, solves once per distinct entry state
-and parameter set while initializing (outputs read in initialization mode follow the inputs, as
-the master propagates the vehicle's entry state), latches the solution when initialization ends,
+`EntryLatchedGuidance`: a law solved from the measured entry state, flown open loop. The subclass says how to solve
+(`solve`) and how to command from the solution (`command`); this base declares the measured entry-state inputs h, v,
+gamma, solves once per distinct entry state and parameter set while initializing (outputs read in initialization mode
+follow the inputs, as the master propagates the vehicle's entry state), latches the solution when initialization ends,
 and commands 0 after the law's final time. A solution whose solver did not converge stops the
 run with an error status and a log message naming the entry state, unless the parameter
 accept_unconverged is 1 (then it is flown, flagged by the law's `converged` output).

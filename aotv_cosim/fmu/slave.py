@@ -41,7 +41,8 @@ import numbers
 import re
 import sys
 import traceback
-from functools import lru_cache, partial
+from functools import partial
+from typing import cast
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
@@ -61,7 +62,7 @@ DERIVED_UNITS = {
 _UNIT_TOKEN = re.compile(r"([A-Za-z]+)(\^?-?[0-9]+)?|1|[./*()]")
 
 
-@lru_cache(maxsize=None)
+@functools.cache
 def unit_exponents(unit: str) -> dict:
     """The SI base-unit exponents of a unit string, {base unit: exponent} sorted by name (FMI 2.0
     `BaseUnit` attributes); ValueError for a string that is not a product of SI units.
@@ -219,7 +220,7 @@ def checked_step(do_step):
             result = do_step(self, current_time, step_size)
         except Exception as exc:
             if not getattr(exc, "_aotv_logged", False):
-                exc._aotv_logged = True
+                exc._aotv_logged = True  # type: ignore[attr-defined]  # a mark for the wrappers above
                 text = _authors_traceback(exc)
                 self.log(f"{type(self).__name__}.do_step raised at t = {current_time!r} s:\n{text}",
                          Fmi2Status.fatal)
@@ -227,7 +228,7 @@ def checked_step(do_step):
         if result is True:
             return result
         return _judged(self, result, current_time, where)
-    wrapper._aotv_contract = True
+    wrapper._aotv_contract = True  # type: ignore[attr-defined]  # a mark `checked_step` looks for
     return wrapper
 
 
@@ -239,11 +240,11 @@ def _judged(slave, result, current_time, where):
                    "missing `return`?); return True when the step is done, False to refuse it")
         slave.log(message, Fmi2Status.fatal)
         error = StepContractError(message)
-        error._aotv_logged = True
+        error._aotv_logged = True  # type: ignore[attr-defined]
         raise error
     try:
         done = bool(result)
-    except Exception:  # noqa: BLE001 - as the wrappers count it: an error in the truth test is a step done
+    except Exception:  # as the wrappers count it: an error in the truth test is a step done
         return result
     if not done:
         queue = slave.log_queue
@@ -341,7 +342,7 @@ class AotvSlave(Fmi2Slave):
         self._nominals = {}
         self._inputs_checked = True
         self._outside = ()
-        self._undefined = frozenset()
+        self._undefined: frozenset[str] = frozenset()
         self.revision = 0  # not `version`: pythonfmu writes that attribute into the modelDescription
         self.start_time = 0.0
         self.initializing = True  # until fmi2ExitInitializationMode
@@ -415,7 +416,8 @@ class AotvSlave(Fmi2Slave):
         2.0: the typical magnitude of the quantity, e.g. 7045.0 for a scale height in m)."""
         if nominal is None:
             return
-        if isinstance(nominal, bool) or not isinstance(nominal, numbers.Real) or not 0.0 < nominal < math.inf:
+        if (isinstance(nominal, bool) or not isinstance(nominal, numbers.Real)
+                or not 0.0 < cast(float, nominal) < math.inf):
             raise ValueError(f"{name}: nominal {nominal!r} must be a finite number above 0 (the quantity's "
                              "typical magnitude in its SI unit)")
         self._nominals[name] = float(nominal)
@@ -545,7 +547,8 @@ class AotvSlave(Fmi2Slave):
         """A snapshot of everything the instance computes with: every attribute but the
         declarations and pythonfmu's own bookkeeping, lists, dicts, sets and arrays copied one
         level deep by `_copied` (an adapter replaces or mutates its state at most one level deep;
-        tests/fmus/test_fmus_alone.py::test_fmu_state_round_trip checks every FMU). pythonfmu calls this for fmi2GetFMUstate."""
+        tests/fmus/test_fmus_alone.py::test_fmu_state_round_trip checks every FMU). pythonfmu calls this for
+        fmi2GetFMUstate."""
         state = self.__dict__.copy()  # then only the few mutable values copied in Python
         for name in NOT_STATE.intersection(state):
             del state[name]
@@ -558,7 +561,7 @@ class AotvSlave(Fmi2Slave):
         _copy_mutable(state, self.__dict__)
 
     # ---- model description ------------------------------------------------------------------
-    def to_xml(self, model_options=dict()):
+    def to_xml(self, model_options=dict()):  # noqa: B006 - pythonfmu's signature; the dict is only read
         """pythonfmu's modelDescription plus units, dependencies, InitialUnknowns, DefaultExperiment."""
         root = super().to_xml(model_options)
         index = {v.name: i + 1 for i, v in enumerate(self.vars.values())}

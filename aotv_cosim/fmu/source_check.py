@@ -276,13 +276,13 @@ def _inspect(source: Path) -> dict:
         cls = fmu_class(source)
     except _SourceProblem:
         raise
-    except BaseException as exc:  # noqa: BLE001 - the source may raise anything, SystemExit included
+    except BaseException as exc:  # the source may raise anything, SystemExit included
         raise _raised("importing it", exc, source) from None
     try:
         instance = cls(instance_name="dummyInstance", resources=str(source.parent))
         model_description = instance.to_xml()
         name = instance.modelName
-    except BaseException as exc:  # noqa: BLE001 - the source may raise anything, SystemExit included
+    except BaseException as exc:  # the source may raise anything, SystemExit included
         raise _raised(f"instantiating {cls.__name__}", exc, source) from None
     from xml.etree.ElementTree import tostring
 
@@ -299,6 +299,7 @@ def load_module(source: Path):
 
     name = "_aotv_fmu_source_" + re.sub(r"\W", "_", source.stem)  # a dot in the file name is no package
     spec = importlib.util.spec_from_file_location(name, source)
+    assert spec is not None and spec.loader is not None  # a .py file has a spec and a source loader
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # dataclasses and pickling look the module up while it runs
     try:
@@ -342,6 +343,7 @@ def fmu_class(source: Path) -> type:
         raise _SourceProblem(f"defines {len(defined)} FMU classes: {lines}", None,
                              "keep one FMU class per file (a shared base may stay, made abstract)", "(top level)")
     taken, law = _runtime_class(module), defined[0]
+    assert taken is not None  # law itself derives from Fmi2Slave or Fmi3SlaveBase
     if taken is not law:
         fix = (f"derive {law.__name__} from {taken.__name__}, or move {taken.__name__} to another module"
                if taken.__module__ == module.__name__ else
@@ -359,7 +361,7 @@ def _class_lines(source: Path) -> dict:
     return {node.name: node.lineno for node in ast.parse(source.read_bytes()).body if isinstance(node, ast.ClassDef)}
 
 
-def _runtime_class(module) -> type:
+def _runtime_class(module) -> type | None:
     """The class the FMU's runtime takes from `module`: the first one with the class named
     Fmi2Slave (or, as the FMI 3.0 wrapper also looks, Fmi3SlaveBase) deepest in its method
     resolution order (fmi_core.c, direct_instance.slave_class)."""

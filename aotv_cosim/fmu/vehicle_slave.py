@@ -11,6 +11,7 @@ once. Bundled into the FMUs (``fmu_build.RUNTIME``).
 """
 
 import math
+from typing import Any
 import sys
 
 from pythonfmu.enums import Fmi2Status
@@ -76,7 +77,9 @@ class VehicleSlave(AotvSlave):
         self.input("sigma", 0.0, "rad", "Bank angle (positive turns toward north when heading east)")
         aero_deps = ("rho", *aero_inputs)
         drag_deps = ("rho", *(aero_inputs if drag_inputs is None else drag_inputs))
-        x = lambda k: (lambda: self.x[k])
+        def x(k):  # a getter of state component k
+            return lambda: self.x[k]
+
         o = self.output
         o("h", "m", "Altitude r - R_e (declared min 0: a run reaching the ground stops, impact)",
           lambda: self.x[0] - self.R_e, min=0.0)
@@ -122,8 +125,8 @@ class VehicleSlave(AotvSlave):
         """Initial state from the parameters."""
         self.x = [self.R_e + self.h0, self.theta0, self.phi0, self.v0, self.gamma0, self.psi0]
         self.heat_load = self.heat_load_total = 0.0
-        self._forces = (-1, None)
-        self._qdot = (-1, None)
+        self._forces: tuple[int, Any] = (-1, None)  # (revision, (L/m, D/m)) once computed
+        self._qdot: tuple[int, Any] = (-1, None)  # (revision, (convective, radiative)) once computed
 
     def start_state(self):
         """The initial state of the current parameters (h0, v0, ..., R_e may be set during
@@ -150,7 +153,7 @@ class VehicleSlave(AotvSlave):
         return False
 
     # ---- outputs ----------------------------------------------------------------------------
-    def _specific_forces(self):
+    def _specific_forces(self) -> tuple[float, float]:
         """(L/m, D/m) in m/s^2 at the current state and inputs, computed once per `revision`
         (three outputs read them)."""
         revision, forces = self._forces

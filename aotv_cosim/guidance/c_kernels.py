@@ -55,10 +55,9 @@ def kernel_dir() -> Path:
     """Folder of compiled kernels: `kernels` in the FMU cache folder, chosen by the rule of
     `fmu.build.cache_dir` ($AOTV_COSIM_CACHE, else $XDG_CACHE_HOME/aotv-cosim, else
     ~/.cache/aotv-cosim), written out here because an FMU's bundled runtime has no fmu.build."""
-    root = os.environ.get("AOTV_COSIM_CACHE")
-    if not root:
-        root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "aotv-cosim"
-    return Path(root) / "kernels"
+    given = os.environ.get("AOTV_COSIM_CACHE")
+    root = Path(given) if given else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "aotv-cosim"
+    return root / "kernels"
 
 
 def _cached_library(source: str, library: str):

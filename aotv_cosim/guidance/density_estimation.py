@@ -64,9 +64,9 @@ class DensityEstimate:
     altitudes: tuple = ()
     ratios: tuple = ()
     log_area: float = 0.0
-    filtered: float = None
-    lift_to_drag: float = None
-    last: tuple = None
+    filtered: float | None = None
+    lift_to_drag: float | None = None
+    last: tuple | None = None
 
     def add(self, h: float, v: float, drag_acc: float, lift_acc: float, model: BankModel, gain: float,
             drag_floor: float) -> "DensityEstimate":
@@ -84,13 +84,14 @@ class DensityEstimate:
         if self.filtered is None:
             filtered = ratio
         else:
+            assert self.lift_to_drag is not None  # set with `filtered`, at the first usable sample
             filtered = self.filtered + gain * (ratio - self.filtered)
             lift_to_drag = self.lift_to_drag + gain * (lift_to_drag - self.lift_to_drag)
         altitudes, ratios, log_area = self.altitudes, self.ratios, self.log_area
         if not altitudes or h < altitudes[-1]:
             if altitudes:
                 log_area += 0.5 * (math.log(ratios[-1]) + math.log(ratio)) * (altitudes[-1] - h)
-            altitudes, ratios = altitudes + (h,), ratios + (ratio,)
+            altitudes, ratios = (*altitudes, h), (*ratios, ratio)
         return DensityEstimate(altitudes, ratios, log_area, filtered, lift_to_drag, (h, v, drag_acc, lift_acc))
 
     def mean_log_ratio(self) -> float:

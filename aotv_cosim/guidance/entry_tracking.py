@@ -224,9 +224,15 @@ def drag_aware_controls(p, n, q_s_m, alpha_band, sigma_band, eta, alpha_guess):
     """
     from scipy.optimize import brentq, minimize_scalar
 
-    target = lambda a: q_s_m * sx2.drag_coefficient(a) * p - n
-    mismatch = lambda a: math.hypot(*target(a)) - q_s_m * sx2.lift_coefficient(a)
-    grid = np.linspace(*alpha_band, 41)
+    def target(a):
+        return q_s_m * sx2.drag_coefficient(a) * p - n
+
+    def mismatch(a):
+        return math.hypot(*target(a)) - q_s_m * sx2.lift_coefficient(a)
+
+    alpha_lo, alpha_hi = alpha_band
+    sigma_lo, sigma_hi = sigma_band
+    grid = np.linspace(alpha_lo, alpha_hi, 41)
     values = [mismatch(a) for a in grid]
     roots = [brentq(mismatch, a0, a1, xtol=1e-12) for a0, a1, f0, f1 in
              zip(grid[:-1], grid[1:], values[:-1], values[1:]) if f0 * f1 <= 0.0 and f0 != f1]
@@ -238,7 +244,8 @@ def drag_aware_controls(p, n, q_s_m, alpha_band, sigma_band, eta, alpha_guess):
 
     def best(a):
         lift, goal = q_s_m * sx2.lift_coefficient(a), target(a)
-        sigma = constrained_lift(*goal, lift, lift, *sigma_band, eta)[1]
+        a_req, b_req = goal
+        sigma = constrained_lift(a_req, b_req, lift, lift, sigma_lo, sigma_hi, eta)[1]
         miss = _weighted_miss((lift * math.cos(sigma), lift * math.sin(sigma)), goal, eta)
         return miss / (q_s_m * sx2.drag_coefficient(a)) ** 2, sigma
 
@@ -306,6 +313,6 @@ def command(x, e, x_ref, alpha_ref, sigma_ref, integrals, g: Gains, bands: Bands
         return Command(float(alpha), float(sigma), constrained, alpha_band, sigma_band)
     a_req, b_req = required_lift(c, w)
     lift_lo, lift_hi = (q_s_m * sx2.lift_coefficient(a) for a in alpha_band)
-    lift, sigma, constrained = constrained_lift(a_req, b_req, lift_lo, lift_hi, *sigma_band, eta)
+    lift, sigma, constrained = constrained_lift(a_req, b_req, lift_lo, lift_hi, sigma_band[0], sigma_band[1], eta)
     alpha = sx2.alpha_from_lift_coefficient(lift / q_s_m)
     return Command(float(alpha), float(sigma), constrained, alpha_band, sigma_band)

@@ -28,7 +28,7 @@ def write_table(path, energies, states, alphas, sigmas, r_earth):
         writer = csv.writer(stream, lineterminator="\n")
         writer.writerow(COLUMNS)
         for e, x, a, s in zip(energies, states, alphas, sigmas):
-            lift, drag = entry.specific_lift_drag(x[0], e, a)
+            _lift, drag = entry.specific_lift_drag(x[0], e, a)
             h, v = x[0] - r_earth, float(entry.speed(x[0], e))
             row = (e, *x, a, s, h, v, entry.mach(h, v), drag)
             writer.writerow([f"{value:.17g}" for value in row])

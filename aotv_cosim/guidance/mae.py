@@ -144,7 +144,7 @@ def _solve_headings(prob: _Problem, gamma_l: float, gamma_r: float, v_l: float, 
     prob.psi_guess = (psi_L, psi_R).
     """
     psi_i, psi_f = prob.state.psi, prob.targets.psi_f
-
+    steps: tuple[float, ...]  # one finite-difference step per unknown
     if prob.mode == ENTRY:
         def build(x):
             return inner_from_common(x[0], x[1], gamma_l, gamma_r, 0.0, v_l, p_v)
@@ -239,7 +239,6 @@ def _cold_start(prob: _Problem) -> np.ndarray:
     """
     m, st, tg = prob.model, prob.state, prob.targets
     r_s = st.r / (1.0 + H_GUESS)
-    x = None
     for _ in range(3):
         gs_rs = m.mu_earth / r_s
         h_i = (st.r - r_s) / r_s

@@ -51,6 +51,7 @@ def _integral(k: mae_solution.MaeConstants, side: mae_solution.OuterSide, psi_a:
 def return_correction(k: mae_solution.MaeConstants, psi_i: float, psi_f: float) -> float:
     """Q(x_i) of the module docstring (dimensionless, u units); psi_i, psi_f in rad."""
     if k.mode == mae.ENTRY and psi_i < k.psi_s:
+        assert k.left is not None  # the entry phase has its left outer solution
         return -_integral(k, k.left, psi_i, k.psi_s) - _integral(k, k.right, k.psi_s, psi_f)
     return -_integral(k, k.right, psi_i, psi_f)
 

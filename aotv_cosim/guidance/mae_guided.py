@@ -67,20 +67,24 @@ class MaeGuidanceLaw:
 
     def _first_order_offset(self, state: mae.State):
         """First-order minus zeroth-order composite costates at `state` (zeros if a solve fails)."""
+        assert self.solution is not None  # called after a solve
         first = mae_first_order.first_order_costates(self.solution, state, self.targets, self.model)
         if first is None:
             return (0.0, 0.0, 0.0)
         return tuple(a - b for a, b in zip(first, self._zeroth_costates(state)))
 
     def _zeroth_costates(self, state: mae.State):
+        assert self.solution is not None  # the first `update` solves before any command
         return mae_solution.composite_costates(self.solution.constants, state.r, state.v, state.gamma,
                                       state.psi, self.measured_u_in_p_u)[1:]
 
     def command(self, state: mae.State):
         """(lambda, bank mu in rad) from the held constants at the measured state (3.26)-(3.27)."""
+        assert self.solution is not None  # the first `update` solves before any command
         u = state.v * state.v / self.solution.constants.gs_rs
-        lam, bank = mae_solution.control_from_costates(u, state.gamma, *self.costates(state),
-                                              self.solution.constants.e_star)
+        p_u, p_gamma, p_psi = self.costates(state)
+        lam, bank = mae_solution.control_from_costates(u, state.gamma, p_u, p_gamma, p_psi,
+                                                       self.solution.constants.e_star)
         lam, bank = float(lam), float(bank)
         if self.stop_turn_at_psi_f and state.psi >= self.targets.psi_f:
             delta = lam * math.cos(bank)

@@ -227,6 +227,7 @@ class MaeConstants:
         values at psi; in the entry phase they are the left common parts.
         """
         if self.mode == ENTRY:
+            assert self.left is not None  # the entry phase has its left outer solution
             return np.array([self.left.gamma0, self.inner.v_l, self.right.gamma0, self.inner.p_v])
         return np.array([self.inner.gamma(psi), self.inner.v(psi), self.right.gamma0, self.inner.p_v])
 
@@ -279,6 +280,7 @@ def open_loop(k: MaeConstants, psi: np.ndarray, r_earth: float) -> CompositeHist
     before the lowest point psi_s, right after; lambda, mu from (3.26)-(3.27) with the
     composite gamma and u. Entry-phase constants only.
     """
+    assert k.left is not None  # entry-phase constants (docstring)
     psi = np.asarray(psi, dtype=float)
     h = k.eps * np.log(k.w_s / k.inner.w(psi))
     left = psi < k.psi_s

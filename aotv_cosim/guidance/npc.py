@@ -45,6 +45,7 @@ Units: SI throughout (m, m/s, rad, s, m/s^2, kg/m^3).
 
 import math
 from dataclasses import dataclass
+from typing import Protocol
 
 from aotv_cosim.guidance import npc_kernel
 from aotv_cosim.physics import orbit, point_mass
@@ -166,7 +167,8 @@ def profile_mean(t0: float, t1: float, t_k: float, u_c: float, s: NpcSettings) -
     return integral(t0, t1) / (t1 - t0)
 
 
-def fly(t_k: float, state, u_c: float, scale: float, model: PredictorModel, s: NpcSettings):
+def fly(t_k: float, state, u_c: float, scale: float, model: PredictorModel,
+        s: NpcSettings) -> tuple[bool, float, float, float, float]:
     """(exited, time s, h m, v m/s, gamma rad) of the predictor's flight from the state (h m,
     v m/s, gamma rad) at elapsed time t_k (s): classical RK4 steps of `s.step` of the vehicle
     FMU's equations (`point_mass.derivatives` in the plane, bank 0; the downrange angle, which
@@ -283,8 +285,8 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
     an unbound one as too high, and moves the next iterate by du_max the way that cures it. Once
     bracketed: false position between the bracket ends with the Illinois modification (the
     retained end's miss is halved when the same end is retained twice); if an end's miss is not
-    a number, the secant step when it stays inside the bracket, else bisection. u_c stays in [u_min, u_max]. At the iteration limit the iterate with the
-    smallest usable miss is returned, converged False.
+    a number, the secant step when it stays inside the bracket, else bisection. u_c stays in [u_min, u_max]. At the
+    iteration limit the iterate with the smallest usable miss is returned, converged False.
     """
     u = _clip(u_guess, s)
     pred = predict(t_k, state, u, scale, model, s)
@@ -327,7 +329,21 @@ def correct(t_k: float, state, u_guess: float, scale: float, model: PredictorMod
     return Correction(u, pred, iterations, False)
 
 
-def measured_density_ratio(sample0, sample1, model: PredictorModel) -> float:
+class DragModel(Protocol):
+    """What `measured_density_ratio` reads of a model: `PredictorModel`, `npc_bank.BankModel`."""
+
+    @property
+    def r_earth(self) -> float: ...
+    @property
+    def gravity_model(self) -> int: ...
+    @property
+    def g0(self) -> float: ...
+    @property
+    def mu(self) -> float: ...
+    def drag(self, h: float, v: float, scale: float) -> float: ...
+
+
+def measured_density_ratio(sample0, sample1, model: DragModel) -> float:
     """Density scale seen between two navigated samples (t s, h m, v m/s, gamma rad): the mean
     drag -(v1 - v0)/dt - g (sin gamma0 + sin gamma1)/2 (from eq. 2.7) over the trapezoidal mean
     of the model drag at scale 1 at the two samples, dimensionless; nan if dt <= 0."""
@@ -356,10 +372,10 @@ class NpcMemory:
     gamma rad) or None, the filtered density scale k_rho, and the last corrected command u_c
     (m/s^2) with its cycle time t_k (s; None before the first cycle)."""
 
-    sample: tuple = None
+    sample: tuple | None = None
     scale: float = 1.0
     u_c: float = 0.0
-    t_k: float = None
+    t_k: float | None = None
 
 
 def guidance_cycle(memory: NpcMemory, t: float, state, model: PredictorModel, s: NpcSettings,

@@ -177,7 +177,8 @@ def _prediction(exited, t, h, v, gamma, model, s):
     return npc.Prediction(exited, t, h, v, gamma, apogee, apogee - s.apogee_target)
 
 
-def fly(t_k: float, state, x: float, scale, model: BankModel, s: BankSettings):
+def fly(t_k: float, state, x: float, scale, model: BankModel,
+        s: BankSettings) -> tuple[bool, float, float, float, float]:
     """(exited, time s, h m, v m/s, gamma rad) of the model flown from state (h m, v m/s,
     gamma rad) at elapsed t_k (s) with vertical lift fraction x and density scale `scale` (a
     number or a `ScaleProfile`): RK4 steps of s.step (`_rk4`) until the altitude climbs through

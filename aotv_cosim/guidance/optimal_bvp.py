@@ -15,7 +15,6 @@ at the interface; costates are reported in km-s units with R = 1 (extraction Sec
 import time
 from bisect import bisect_right
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -53,7 +52,7 @@ class NominalSpline:
                        for i in range(ppoly.c.shape[1])]
         """Per interval, per variable: coefficients (c3, c2, c1, c0) of s^0 .. s^3."""
         self.scales = _SCALE.tolist()
-        self._last = (None, None)
+        self._last: tuple = (None, None)
 
     def __call__(self, t):
         """(6, ...) km-s values at time(s) t (s)."""
@@ -144,7 +143,7 @@ def _initial_guess(tau, tf: float, x0_km, a: float, b: float, lam_r: float, c: A
 
 def solve_min_effort(entry=ENTRY_000, exit_target=EXIT_000, tf: float = TF_000,
                      k_ball: float = K_BALL_000, free_exit_velocity: bool = False,
-                     guess: Optional[Tuple[float, float]] = None, tol: float = 1e-6,
+                     guess: tuple[float, float] | None = None, tol: float = 1e-6,
                      n_nodes: int = 61) -> MinEffortSolution:
     """Solve the fixed-tf minimum-effort 2PBVP (3.21)-(3.22) by collocation.
 

@@ -46,6 +46,7 @@ Units: SI (m, m/s, rad, s, kg/m^3).
 """
 
 import math
+from typing import Any
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -241,7 +242,7 @@ def fly(start, s1: float, t_switch: float, sigma_2: float, model: TruthModel, s:
 
 
 @lru_cache(maxsize=8)
-def _kernel_inputs(model: TruthModel, s: OracleSettings):
+def _kernel_inputs(model: TruthModel, s: OracleSettings) -> tuple[Any, Any]:
     """(`oracle_kernel.parameters`, `oracle_kernel.profile_nodes`) of the run's truth and settings."""
     p = oracle_kernel.parameters((
         model.cl_s_m, model.cd_s_m, model.density_factor, model.profile_sigma, model.atmosphere_model,
@@ -280,7 +281,7 @@ def _fly_python(start, s1, t_switch, sigma_2, model: TruthModel, s: OracleSettin
     """`fly` in Python (the loop `oracle_kernel` compiles)."""
     k, x, sigma, rate, sigma_before, rho_before, sign = start
     if k == 0:
-        sigma, rate = sign * (s1 if 0.0 < t_switch else sigma_2), 0.0
+        sigma, rate = sign * (s1 if t_switch > 0.0 else sigma_2), 0.0
     period = s.command_period
     args = [0.0, 0.0, model.cl_s_m, model.cd_s_m, 0.0, point_mass.GRAVITY_INVERSE_SQUARE, G0, model.mu,
             point_mass.HEADING_FULL]
@@ -356,6 +357,7 @@ def solve_exit_bank(start, s1: float, t_switch: float, x_guess: float, model: Tr
             reach = min(2.0 * reach, 0.2)
         prev = (x, f) if math.isfinite(f) else prev
         x = min(max(candidate, -1.0), 1.0)
+    assert best is not None  # set by the first trial (max_iter >= 1)
     return best[0], best[1], False, n
 
 
@@ -386,7 +388,7 @@ class _Search:
 
     def trail(self) -> "Trail":
         """The pass flown at full lift up throughout, recorded at every communication point."""
-        record = []
+        record: list = []
         fly(self.entry, 0.0, math.inf, 0.0, self.model, self.s, record)
         self.predictions += 1
         return Trail(record)
@@ -429,7 +431,8 @@ def _latest_switch(search: _Search):
     while hi - lo > 1:
         mid = (lo + hi) // 2
         lo, hi = (mid, hi) if low_enough(mid) else (lo, mid)
-    solved, tried = {}, {}  # switch point: the admissible exit bank found there (warm starts); every solve
+    solved: dict = {}  # switch point: the admissible exit bank found there (warm starts)
+    tried: dict = {}  # switch point: every solve
 
     def solve_at(k, fallback):
         if k in tried:

@@ -415,5 +415,5 @@ def flight(p, profile, start, s1: float, t_switch: float, sigma_2: float, capaci
     recorded = ctypes.c_int(0)
     exited = function(p, *profile, us76_kernel.tables(), (ctypes.c_double * 3)(s1, t_switch, sigma_2),
                       (ctypes.c_double * START_SIZE)(*start), record, capacity, ctypes.byref(recorded), out)
-    records = record[:START_SIZE * recorded.value] if capacity else None
+    records = record[:START_SIZE * recorded.value] if record is not None else None
     return bool(exited), out[0], out[1], out[2], out[3], records

@@ -161,8 +161,8 @@ def _rhs(_psi, y, p):
     sigma, delta = optimal_controls(z, v, gamma, p_z, p_v, p_gamma, p)
     dz, dv, dgamma, dt = heading_rates(z, v, gamma, sigma, delta, p)
     h = COMPLEX_STEP
-    dp = [-_hamiltonian(*(np.array([z, v, gamma], dtype=complex) + 1j * h * e), costates,
-                        sigma, delta, p).imag / h for e in np.eye(3)]
+    dp = [-_hamiltonian(*(np.array([z, v, gamma], dtype=complex) + 1j * h * e), costates,  # type: ignore[call-arg]
+                        sigma, delta, p).imag / h for e in np.eye(3)]  # (mypy cannot count the 3 of *array)
     return [dz, dv, dgamma, *dp, dt]
 
 
@@ -182,7 +182,7 @@ def _escaped(_psi, y, _p):
     return y[0] - Z_ESCAPE
 
 
-_escaped.terminal = True
+_escaped.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
 
 
 def shoot(x0, p: PlaneChangeProblem, dense: bool = False):

@@ -20,7 +20,6 @@ Everything here is SI (m, m/s, rad, m/s^2, s); the equations are unit-consistent
 import math
 import time
 from dataclasses import dataclass
-from typing import Optional, Tuple
 
 import numpy as np
 
@@ -64,8 +63,8 @@ def _ground(_t, y, _a, _b, c: AotvConstants) -> float:
     return y[0] - c.r_earth
 
 
-_ground.terminal = True
-_ground.direction = -1
+_ground.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
+_ground.direction = -1  # type: ignore[attr-defined]  # read by solve_ivp
 
 
 class _EnergyFloor:
@@ -92,8 +91,8 @@ def _loop(_t, y, _a, _b, _c) -> float:
     return 0.5 * math.pi - abs(y[2])
 
 
-_loop.terminal = True
-_loop.direction = -1
+_loop.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
+_loop.direction = -1  # type: ignore[attr-defined]  # read by solve_ivp
 
 
 def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConstants, events=()):
@@ -102,8 +101,8 @@ def _terminal_with_sensitivities(x0, a: float, b: float, tf: float, c: AotvConst
     `_EnergyFloor`, `_loop`) stops the flight before tf.
 
     The sensitivities S = dx/d(a, b) obey dS/dt = A S + B (1, t) with A, B of eqs. (5.2)/(5.3)
-    along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is approximate to a
-    relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
+    along the trajectory (`planar.time_linear_variational`); (5.2) drops cos(gamma) in A(3,1), so the Jacobian is
+    approximate to a relative 3e-4 in that entry, which slows Newton negligibly and does not move the root.
     Events do not change the steps taken (solve_ivp locates them after each step).
     """
     from scipy.integrate import solve_ivp  # here: not every law needs scipy
@@ -128,12 +127,13 @@ def _flown_trial(x0, trial, c: AotvConstants, floor: _EnergyFloor, last: bool):
     last halving stop there), its energy falls below the floor or it loops; _NOT_FLOWN if tf' <= 0. The
     last halving is flown through the ground, as it always was; a float overflow there
     (exp(-h/H) far below the ground) counts as not flown."""
-    if trial[2] <= 0.0:
+    a, b, tf = trial
+    if tf <= 0.0:
         return _NOT_FLOWN
     if not last:
-        return _terminal_with_sensitivities(x0, *trial, c, (_ground, floor, _loop))
+        return _terminal_with_sensitivities(x0, a, b, tf, c, (_ground, floor, _loop))
     try:
-        return _terminal_with_sensitivities(x0, *trial, c, (floor, _loop))
+        return _terminal_with_sensitivities(x0, a, b, tf, c, (floor, _loop))
     except (OverflowError, FloatingPointError):
         return _NOT_FLOWN
 
@@ -152,8 +152,8 @@ def _residual(x, exit_target, c: AotvConstants) -> np.ndarray:
 
 
 def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
-                     guess: Optional[Tuple[float, float, float]] = None,
-                     max_iter: int = 20, max_step: Optional[Tuple[float, float]] = None
+                     guess: tuple[float, float, float] | None = None,
+                     max_iter: int = 20, max_step: tuple[float, float] | None = None
                      ) -> PredictiveSolution:
     """Solve for (a, b, tf') of the predictive time-linear law (Ch. 6, eqs. 4.8, 6.1, 6.2).
 
@@ -183,7 +183,7 @@ def solve_predictive(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
     z = np.array(guess if guess is not None else table_8_1_fit(k_ball, corrected_intercept=True))
     weights = np.array([1e-3, 1.0, 1e3])
     floor = _EnergyFloor(exit_target, c)
-    first = _terminal_with_sensitivities(x0, *z, c, (floor, _loop)) if z[2] > 0.0 else None
+    first = _terminal_with_sensitivities(x0, z[0], z[1], z[2], c, (floor, _loop)) if z[2] > 0.0 else None
     if first is None:
         return PredictiveSolution(float(z[0]), float(z[1]), float(z[2]), np.full(3, np.inf), int(z[2] > 0.0),
                                   False, time.perf_counter() - start)
@@ -226,9 +226,9 @@ class KnownSolution:
     """A start for `solve_from_known`: (a m/s^2, b m/s^3, tf' s) near the solution of the problem
     with entry (h m, v m/s, gamma rad) and K k_ball (1/m), e.g. the mission's nominal."""
 
-    entry: Tuple[float, float, float]
+    entry: tuple[float, float, float]
     k_ball: float
-    guess: Tuple[float, float, float]
+    guess: tuple[float, float, float]
 
 
 def solve_from_known(entry, exit_target, k_ball: float, known: KnownSolution,
@@ -283,7 +283,7 @@ def _solve_ab_fixed_tf(x0, exit_target, a: float, b: float, tf: float, c: AotvCo
 
 
 def solve_predictive_thesis(entry, exit_target=EXIT_000, k_ball: float = K_BALL_000,
-                            guess: Tuple[float, float, float] = (0.77, -2.57e-3, 300.0),
+                            guess: tuple[float, float, float] = (0.77, -2.57e-3, 300.0),
                             n_updates: int = 12, inner_iter: int = 10):
     """The thesis's iteration of Fig. 6.1, eqs. (6.1)-(6.4), run for n_updates tf' updates.
 
@@ -333,7 +333,7 @@ def estimate_k_ball(v_dot: float, h0: float, v0: float, gamma0: float,
 def solve_predictive_adaptive(entry, drag_acc: float, exit_target=EXIT_000,
                               g: float = AotvConstants.si().g,
                               scale_height: float = AotvConstants.si().scale_height,
-                              known: Optional[KnownSolution] = None):
+                              known: KnownSolution | None = None):
     """Predictive adaptive law of Sec. 8.1: K from the entry deceleration (8.1), then (a, b, tf').
 
     entry: (h0 m, v0 m/s, gamma0 rad); drag_acc: the drag specific force D/m measured at entry
@@ -360,7 +360,7 @@ TF_INTERCEPT_CORRECTED = 449.94712
 1.000 s low at both end points (extraction Sec. 8 item 3)."""
 
 
-def table_8_1_fit(k_ball: float, corrected_intercept: bool = False) -> Tuple[float, float, float]:
+def table_8_1_fit(k_ball: float, corrected_intercept: bool = False) -> tuple[float, float, float]:
     """Linear fits (8.2)-(8.4) of Table 8.1: (a m/s^2, b m/s^3, tf s) for the nominal entry.
 
     k_ball in 1/m (as Table 8.1 lists it); the fits are evaluated with K in 1/km, the only reading

@@ -17,7 +17,9 @@ Two solutions, both on local xi (xi0 = 0 at the controller start, extraction A-1
 Coefficients are given as callables of local xi returning (omega0, omega1, omega0', omega1').
 """
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -137,7 +139,7 @@ class AsymptoticLqr:
     """
 
     c: np.ndarray
-    coeffs: object
+    coeffs: Callable
     r: float
     quartic: str = "full"
 
@@ -146,11 +148,11 @@ class AsymptoticLqr:
         if frozen:
             final = coeffs(xi_f)
             coeffs = lambda xi: final  # noqa: E731
-        out = cls(None, coeffs, r, quartic)
+        out = cls(cast(np.ndarray, None), coeffs, r, quartic)  # c is set just below, from the roots
         out.c = characteristic_coefficients(*out._root_coeffs(xi_f), r, xi_f)
         return out
 
-    def _root_coeffs(self, xi: float):
+    def _root_coeffs(self, xi: float) -> tuple[float, float, float, float]:
         w0, w1, w0p, w1p = self.coeffs(xi)
         return (w0, w1, w0p, w1p) if self.quartic == "full" else (w0, w1, 0.0, 0.0)
 

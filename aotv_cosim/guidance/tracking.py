@@ -69,7 +69,7 @@ class TerminalLqrLaw:
     q: tuple = tuple(np.diag(lqr.Q_TERMINAL))
     r: float = lqr.R_TERMINAL
     v_term: tuple = tuple(np.diag(lqr.V_TERMINAL))
-    frozen: tuple = field(init=False)
+    frozen: tuple[np.ndarray, np.ndarray] = field(init=False)
 
     def __post_init__(self):
         self.frozen = lqr.frozen_linearization(desired_state(self.nominal, 0.0, self.r_earth),

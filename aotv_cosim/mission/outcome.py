@@ -22,7 +22,6 @@ metrics are the convective ones, qdot and heat_load).
 
 import math
 from dataclasses import asdict, dataclass
-from typing import Optional, Tuple
 
 from aotv_cosim.physics import orbit
 from aotv_cosim.physics.constants import MU_EARTH, R_EARTH_000
@@ -66,7 +65,7 @@ class RunRecord:
 
     status: str
     error: str = ""
-    exit: Optional[Tuple[float, float, float]] = None
+    exit: tuple[float, float, float] | None = None
     min_altitude: float = NAN
     peak_heat_rate: float = NAN
     heat_load: float = NAN
@@ -160,7 +159,7 @@ def _number(x) -> float:
 def _left_atmosphere(state, at_event: bool, c: CaptureCriteria) -> bool:
     """The state (h, v, gamma) is an exit: climbing (gamma > 0), and either located by the
     run's stop condition (at_event) or above the exit altitude."""
-    h, v, gamma = state
+    h, _v, gamma = state
     if not all(map(math.isfinite, state)) or not gamma > 0.0:
         return False
     return at_event or h >= c.exit_altitude
@@ -207,7 +206,7 @@ def record_from_summary(summary: dict, c: CaptureCriteria, vehicle: str = "vehic
         return _number(entry["value"]) if entry else NAN
 
     state = (at("h"), at("v"), at("gamma"))
-    exited = _left_atmosphere(state, bool(event) and event.get("signal") == f"{vehicle}.h", c)
+    exited = _left_atmosphere(state, event is not None and event.get("signal") == f"{vehicle}.h", c)
     return RunRecord(
         status=str(summary.get("status", "")), error=str(summary.get("error") or ""),
         exit=state if exited else None, min_altitude=extreme(lows, "h"),

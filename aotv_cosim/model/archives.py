@@ -96,7 +96,7 @@ def extract_to(path, folder: Path, *, file=None, entry=None) -> Path:
     return folder
 
 
-_INTACT = set()
+_INTACT: set = set()
 """(path, size, mtime) of the archives whose members this process found intact."""
 
 

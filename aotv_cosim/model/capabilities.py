@@ -44,7 +44,7 @@ def default_experiment(system, path, doc: dict, given: dict) -> dict:
     for key, attribute in EXPERIMENT:
         if key in doc or given.get(key) is not None:
             continue
-        values = {}
+        values: dict = {}
         for name, comp in system.components.items():
             experiment = comp.fmu.model_description.defaultExperiment
             text = getattr(experiment, attribute, None) if experiment is not None else None
@@ -80,7 +80,7 @@ def check_capabilities(scenario) -> None:
                                        f"{s.stop - s.start:g} s is {n:.6g} steps of {s.step:g} s", file=s.path,
                                        entry="stop", fix=f"give a stop time start + a whole number of steps, "
                                        f"e.g. {s.start + max(1, math.floor(n)) * s.step:g}"))
-    seen = {}
+    seen: dict = {}
     for name, comp in s.system.components.items():
         cs = comp.fmu.model_description.coSimulation
         if cs.canBeInstantiatedOnlyOncePerProcess:

@@ -35,7 +35,7 @@ _FIXES = {
 
 def schema(kind: str) -> dict:
     """The JSON schema of a file kind ('wiring' or 'scenario'), as shipped in aotv_cosim/schemas."""
-    text = resources.files("aotv_cosim").joinpath("schemas", SCHEMAS[kind]).read_text()
+    text = resources.files("aotv_cosim").joinpath("schemas").joinpath(SCHEMAS[kind]).read_text()
     return json.loads(text)
 
 
@@ -105,20 +105,20 @@ def load_document(path, kind: str) -> dict:
     except UnicodeDecodeError as exc:  # the entry is where the first byte that is not UTF-8 stands
         line = exc.object[:exc.start].count(b"\n") + 1
         raise InputError(f"not UTF-8: {exc.reason} (byte {exc.object[exc.start]:#04x})", file=path,
-                         entry=f"line {line} (byte offset {exc.start})", fix=f"give a UTF-8 {kind} JSON file")
+                         entry=f"line {line} (byte offset {exc.start})", fix=f"give a UTF-8 {kind} JSON file") from exc
     except OSError as exc:
-        raise InputError(f"cannot read: {exc}", file=path, fix=f"give a UTF-8 {kind} JSON file")
+        raise InputError(f"cannot read: {exc}", file=path, fix=f"give a UTF-8 {kind} JSON file") from exc
     try:
         doc = strict_json(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"invalid JSON: {exc.msg}", file=path, entry=f"line {exc.lineno} column {exc.colno}",
-                         fix="correct the JSON syntax there")
+                         fix="correct the JSON syntax there") from exc
     except _Refused as exc:
         entry = f"key {exc.key!r}" if exc.key is not None else _where(text, exc.token)
         raise InputError(f"invalid JSON: {exc}", file=path, entry=entry,
-                         fix="use finite numbers and unique keys (omit an entry to keep its default)")
+                         fix="use finite numbers and unique keys (omit an entry to keep its default)") from exc
     except RecursionError:
-        raise InputError("invalid JSON: nested too deeply", file=path, fix="flatten the document")
+        raise InputError("invalid JSON: nested too deeply", file=path, fix="flatten the document") from None
     check_document(doc, kind, path)
     return doc
 

@@ -11,9 +11,10 @@ the output depends on every input); initial feedthrough adds `InitialUnknowns`.
 """
 
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
-from typing import Callable, Union
+from typing import Any, Union
+from collections.abc import Callable
 
 from fmpy import read_model_description
 
@@ -25,7 +26,7 @@ from aotv_cosim.paths import regular_file, resolved
 VERSIONS = ("2.0", "3.0")
 """The fmiVersion values of the FMUs the master runs."""
 
-FmuResolver = Callable[[Union[str, Path]], Union[Path, "FmuInfo"]]
+FmuResolver = Callable[[str | Path], Union[Path, "FmuInfo"]]
 """Gives the .fmu file of a wiring's FMU reference that is not a .fmu path: a name of this
 package's FMUs, or a user's FMU source (its absolute .py path). Loading takes one, so it builds
 nothing itself; the API and the command line give `fmu.build.built_fmu`, which builds the FMU
@@ -49,7 +50,7 @@ class Variable:
     unit: str
     start: object
     description: str
-    fmi_type: str = None
+    fmi_type: str = None  # type: ignore[assignment]  # None: the variable's `type` (__post_init__)
 
     def __post_init__(self):
         if self.fmi_type is None:
@@ -61,10 +62,12 @@ class FmuInfo:
     """An FMU file and what its modelDescription says."""
 
     path: Path
-    model_description: object
+    model_description: Any  # fmpy's ModelDescription
     variables: dict
     feedthrough: dict
     initial_feedthrough: dict
+    slave_class: type | None = field(default=None, compare=False, repr=False)
+    """The slave class of an FMU that is a class, not a file (`simulation.direct_instance`)."""
 
     @property
     def guid(self):
@@ -138,7 +141,7 @@ def read_fmu(path: Path, *, file, entry) -> FmuInfo:
         raise
     except Exception as exc:  # fmpy raises many kinds for a corrupt archive or XML
         raise InputError(f"cannot read FMU {path.name}: {exc}", file=file, entry=entry,
-                         fix="give a valid FMI 2.0 or 3.0 co-simulation FMU")
+                         fix="give a valid FMI 2.0 or 3.0 co-simulation FMU") from exc
     if md.fmiVersion not in VERSIONS or md.coSimulation is None:
         only = " (it is for scheduled execution only)" if getattr(md, "scheduledExecution", None) else ""
         raise InputError(f"{path.name} is not an FMI 2.0 or 3.0 co-simulation FMU{only}", file=file, entry=entry,

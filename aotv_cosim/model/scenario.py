@@ -29,7 +29,7 @@ class StopCondition:
     String) changes from one communication point to the next."""
 
     signal: str
-    threshold: float
+    threshold: float | None
     direction: str = "either"
 
 
@@ -56,8 +56,8 @@ class Expectation:
     at: object
     value: float
     source: str
-    tolerance: float = None
-    rel_tolerance: float = None
+    tolerance: float | None = None
+    rel_tolerance: float | None = None
     note: str = ""
 
     def allowed_error(self) -> float:
@@ -76,10 +76,10 @@ class Dispersion:
 
     signal: str
     kind: str
-    mean: float = None
-    std: float = None
-    low: float = None
-    high: float = None
+    mean: float | None = None
+    std: float | None = None
+    low: float | None = None
+    high: float | None = None
 
 
 @dataclass
@@ -334,6 +334,7 @@ def _check_outcome_actuator(s: Scenario, doc, outputs) -> list:
     nan)."""
     if "actuator" not in doc.get("montecarlo", {}).get("outcome", {}):
         return []
+    assert s.outcome is not None  # the document names an outcome actuator, so the scenario has an outcome
     signal = f"{s.outcome.actuator}.saturation_time"
     if signal not in outputs:
         return [InputError(f"{s.outcome.actuator} has no output saturation_time, which the outcome reports as the "
@@ -357,8 +358,8 @@ def _check_expected(s: Scenario, e: Expectation, entry) -> list:
     var = s.system.variable(e.signal)
     comp = s.system.components[e.signal.split(".", 1)[0]]
     if var.type == "Enumeration":
-        ok = not isinstance(e.value, bool) and enumeration_value(
-            comp.fmu, var.name, int(e.value) if isinstance(e.value, float) and e.value.is_integer() else e.value) is not None
+        value = int(e.value) if isinstance(e.value, float) and e.value.is_integer() else e.value
+        ok = not isinstance(e.value, bool) and enumeration_value(comp.fmu, var.name, value) is not None
     elif var.type == "Boolean":
         ok = isinstance(e.value, bool)
     elif var.type == "String":

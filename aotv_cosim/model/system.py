@@ -44,7 +44,7 @@ class Connection:
     output: str
     target: str
     input: str
-    as_type: str = None
+    as_type: str | None = None
 
     def __str__(self):
         text = f"{self.source}.{self.output} -> {self.target}.{self.input}"
@@ -317,7 +317,8 @@ def _check_connection(conn, components, file, entry):
         if out.type not in ("Integer", "Boolean") or inp.fmi_type not in FLOAT64_CALLS:
             problems.append(InputError(f"cannot convert {out.fmi_type} -> {inp.fmi_type} (as {conn.as_type})",
                                        file=file, entry=entry,
-                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input (FMI 3.0: Float64)"))
+                                       fix="'(as Real)' feeds an Integer or Boolean output to a Real input (FMI 3.0: "
+                                           "Float64)"))
         return problems
     if not lossless(out.fmi_type, inp.fmi_type):
         convertible = out.type in ("Integer", "Boolean") and inp.fmi_type in FLOAT64_CALLS
@@ -355,7 +356,7 @@ def _unit_warnings(connections, components) -> list:
 
 def _check_inputs(system):
     problems = []
-    seen = {}
+    seen: dict = {}
     for k, conn in enumerate(system.connections):
         key = (conn.target, conn.input)
         if key in seen:
@@ -384,7 +385,7 @@ def _check_inputs(system):
 
 def _check_loops(system):
     """Reject a cycle of same-instant dependencies (an algebraic loop) between variables."""
-    edges = {}
+    edges: dict = {}
     for conn in system.connections:
         edges.setdefault(("out", conn.source, conn.output), []).append(("in", conn.target, conn.input))
     for comp in system.components.values():
@@ -397,13 +398,13 @@ def _check_loops(system):
         state[node] = "open"
         for nxt in edges.get(node, ()):
             if state.get(nxt) == "open":
-                cycle = trail[trail.index(nxt):] + [nxt]
+                cycle = [*trail[trail.index(nxt):], nxt]
                 text = " -> ".join(f"{c}.{v}" for kind, c, v in cycle if kind == "out")
                 raise InputError(f"algebraic loop of direct feedthrough: {text}", file=system.path,
                                  entry="connections",
                                  fix="break the loop with a component that has no direct feedthrough")
             if nxt not in state:
-                visit(nxt, trail + [nxt])
+                visit(nxt, [*trail, nxt])
         state[node] = "done"
 
     for node in list(edges):

@@ -121,7 +121,7 @@ def enumeration_value(fmu, name: str, value):
     return None
 
 
-def typed(kind: str, slot: float, strings: Strings = None):
+def typed(kind: str, slot: float, strings: Strings | None = None):
     """A buffer slot value as the Python value of a variable of type `kind`."""
     if kind in ("Integer", "Enumeration"):
         return int(slot)
@@ -132,9 +132,10 @@ def typed(kind: str, slot: float, strings: Strings = None):
     return float(slot)
 
 
-def slot(kind: str, value, strings: Strings = None) -> float:
+def slot(kind: str, value, strings: Strings | None = None) -> float:
     """The buffer slot value of a Python value of a variable of type `kind`."""
     if kind == "String":
+        assert strings is not None, "a String value is numbered by the run's Strings"
         return strings.number(value)
     return float(value)
 
@@ -143,7 +144,7 @@ class Decoder:
     """Turns recorded float64 columns back into their types: `types` {column: type} names the
     columns that are not Real, `texts` the run's String values by number (`Strings.texts`)."""
 
-    def __init__(self, types: dict = None, texts: list = None):
+    def __init__(self, types: dict | None = None, texts: list | None = None):
         self.types = dict(types or {})
         self.texts = texts if texts is not None else []
 

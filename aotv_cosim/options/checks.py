@@ -18,6 +18,7 @@ from collections.abc import Callable, Mapping
 from collections.abc import Set as AbstractSet
 from dataclasses import fields
 from pathlib import Path
+from typing import Any, ClassVar, TypeVar
 
 from aotv_cosim.errors import InputError
 
@@ -73,8 +74,19 @@ def rule(check: Callable, entry: str) -> dict:
     return {"check": check, "entry": entry}
 
 
+_O = TypeVar("_O", bound="Options")
+
+
 class Options:
     """Base of the frozen options classes: checks every field on construction (module docstring)."""
+
+    __dataclass_fields__: ClassVar[dict[str, Any]]  # every subclass is a dataclass
+
+    @classmethod
+    def of(cls: type[_O], **raw: Any) -> _O:
+        """The options made of a face's raw values (a str path, a dict of overrides, ...): the
+        fields' annotations give the types the checks convert them to on construction."""
+        return cls(**raw)
 
     def __post_init__(self):
         for f in fields(self):
@@ -145,7 +157,7 @@ def workers(value, where: Where):
     return count(1, MAX_SCHEDULED_WORKERS, "workers")(value, where)
 
 
-def local_workers(value: int, where: Where) -> int:
+def local_workers(value: object, where: Where) -> int:
     """Local worker processes: at most WORKERS_PER_CORE x the usable cores."""
     return count(1, WORKERS_PER_CORE * usable_cores(), "workers",
                  f"give at most {WORKERS_PER_CORE} per usable core ({usable_cores()} here); more only compete "

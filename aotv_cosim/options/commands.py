@@ -76,13 +76,14 @@ class RunOptions(_Scenario):
     """A scenario file (or an .ssp archive), or from Python a loaded Scenario."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """The output folder; None: in memory, nothing written."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     """Overrides of parameters and unconnected inputs, SI: a mapping {'comp.var': value}, kept as
     pairs."""
     step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
                                                       what="the step"), "--step"))
     """Communication step, s (None: the scenario's)."""
-    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
+                                                            "--start"))
     """Start time, s (None: the scenario's); with start or stop given only the expectations at
     the event are checked."""
     stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
@@ -116,7 +117,8 @@ class CheckOptions(Options):
     """Scenario files or folders (default: scenarios/)."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """Base output folder: each scenario's results in OUT/<scenario> (None: results/check)."""
-    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
+                                                            "--start"))
     stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
 
 
@@ -167,7 +169,7 @@ class ExportOptions(_Scenario):
     scenario: object = field(metadata=rule(_scenario, "SCENARIO"))
     out: Path = field(metadata=rule(path(".ssp file"), "--out"))
     """The .ssp archive to write."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     step: float | None = field(default=None, metadata=rule(number(low=0.0, low_open=True, optional=True, unit="s",
                                                       what="the step"), "--step"))
     fmi_version: int = field(default=2, metadata=rule(choice(2, 3), "--fmi"))
@@ -255,9 +257,10 @@ class CampaignOptions(RunsOptions):
     """The campaign folder; None: a temporary one, removed."""
     resume: bool = field(default=False, metadata=rule(flag, "--resume"))
     """Continue an interrupted campaign in `out`."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     """As for `RunOptions.sets`."""
-    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"), "--start"))
+    start: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the start"),
+                                                            "--start"))
     stop: float | None = field(default=None, metadata=rule(number(optional=True, unit="s", what="the stop"), "--stop"))
     keep_series: bool = field(default=False, metadata=rule(flag, "--keep-series"))
     """Also keep every run's recorded signals (about 200 rows a run) in series.parquet."""
@@ -284,7 +287,8 @@ class BenchmarkOptions(RunsOptions):
     """`aotv-cosim benchmark` / `aotv_cosim.benchmark`: every law of a set and your laws through
     the same dispersions."""
 
-    scenario_set: Path = field(metadata=rule(path("scenario set (a folder, a scenario or a shipped set's name)"), "SET"))
+    scenario_set: Path = field(metadata=rule(path("scenario set (a folder, a scenario or a shipped set's name)"),
+                                             "SET"))
     """A folder of scenarios (one law each), one scenario file, or a shipped set's name
     (benchmark_seed000, benchmark_aerocapture/afe, benchmark_aerocapture/aotv)."""
     laws: tuple[Path, ...] = field(default=(), metadata=rule(law_files, "--law"))
@@ -309,7 +313,7 @@ class SweepOptions(RunsOptions):
     grids: tuple = field(metadata=rule(grids, "--grid"))
     """((parameter, (values...)), ...), SI, from {"comp.var": values} or "comp.var=LOW:HIGH:N" texts;
     every combination is flown (at most MAX_POINTS)."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for sweep.csv/.parquet/.json and sweep.png; None: nothing kept."""
 
@@ -369,7 +373,7 @@ class CorridorOptions(RunsOptions):
     bracket: tuple | None = field(default=None, metadata=rule(_bracket, "--bracket"))
     """(steep, shallow) entry flight-path angles searched, rad, -pi/2 < steep < shallow < 0 (None:
     each bound searched outward from the scenario's entry)."""
-    sets: tuple = field(default=None, metadata=rule(overrides, "--set"))
+    sets: tuple = field(default=(), metadata=rule(overrides, "--set"))
     """As for `RunOptions.sets`, applied to the passes flown (not to the guidance taken out)."""
     out: Path | None = field(default=None, metadata=rule(path("output folder", optional=True), "--out"))
     """A folder for corridor.json, corridor.png and the two scenarios flown; None: nothing kept."""

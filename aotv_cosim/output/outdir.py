@@ -33,7 +33,7 @@ RECORD = ".aotv-written"
 
 RUN_FILES = ("timeseries.csv", "timeseries.csv.part", "summary.json", "summary.json.part")
 """What a run writes (besides its plots) and so must not find there as folders."""
-RUN_OUTPUTS = RUN_FILES + ("timeseries.parquet", "timeseries.parquet.part", "overview*.png", "plot_*.png")
+RUN_OUTPUTS = (*RUN_FILES, "timeseries.parquet", "timeseries.parquet.part", "overview*.png", "plot_*.png")
 """Every name a run may write (patterns): found there unrecorded, they are a user's files."""
 
 

@@ -9,7 +9,7 @@ import matplotlib
 from aotv_cosim.output.display_units import display
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
 PANELS = 12
 """Panels per overview page."""

@@ -18,8 +18,8 @@ class Result:
     int32 for an Integer or Enumeration, bool for a Boolean, text for a String);
     units: {'time': 's', signal: unit}; summary: the summary dict (as in summary.json);
     run_summary: the same as a `summary.RunSummary`;
-    status: 'completed', 'terminated' (an FMU asked to end the run), 'failed' or 'interrupted'; event: the located stop-condition crossing
-    ({'signal', 'threshold', 'time', 'values'}) or None; expectations: the checked numbers
+    status: 'completed', 'terminated' (an FMU asked to end the run), 'failed' or 'interrupted'; event: the located
+    stop-condition crossing ({'signal', 'threshold', 'time', 'values'}) or None; expectations: the checked numbers
     (measured, expected, allowed error, passed, source); outcome: the run classified (see the
     property); out: the output folder or None.
     """

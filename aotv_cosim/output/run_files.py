@@ -13,6 +13,7 @@ import contextlib
 import io
 import json
 import os
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -80,13 +81,14 @@ class TimeSeriesWriter:
         self.select = [index[c] for c in self.columns]
         self.decoder = decoder if decoder is not None and any(
             decoder.kind(c) != "Real" for c in self.columns) else None
-        self.times, self.chunks = [], []
+        self.times: list[np.ndarray] = []
+        self.chunks: list[np.ndarray] = []
         self.whole = 0  # bytes of the file that are whole lines (header and rows)
         try:
-            self.file = open(self.part, "wb", buffering=0)
+            self.file = open(self.part, "wb", buffering=0)  # noqa: SIM115 - written row by row; `close` closes it
         except OSError as exc:
             raise OutputError(self.part, exc) from exc
-        self._write((",".join(["time"] + self.columns) + "\n").encode())
+        self._write((",".join(["time", *self.columns]) + "\n").encode())
 
     def _write(self, data: bytes):
         """Append whole lines; on failure cut the file back to its last whole line (and go on
@@ -137,12 +139,12 @@ def _typed_lines(text, data, kinds, texts):
     quoted (a quote doubled)."""
     def cell(kind, x):
         if kind == "Real":
-            return "%.17g" % x
+            return f"{x:.17g}"
         if kind == "Boolean":
             return "true" if x else "false"
         if kind == "String":
             return '"' + texts[int(x)].replace('"', '""') + '"'
-        return "%d" % x
+        return "%d" % x  # noqa: UP031 - %d takes the float the row holds, format spec d refuses it
     for row in data:
         text.write(",".join(cell(k, x) for k, x in zip(kinds, row)) + "\n")
 
@@ -150,7 +152,9 @@ def _typed_lines(text, data, kinds, texts):
 def statistics(columns, times, rows, decoder=None):
     """Final values, minima and maxima (with their times) of each column; with a `decoder` the
     columns that are not Real are given as their type (no extrema for a String)."""
-    final, minima, maxima = {}, {}, {}
+    final: dict[str, object] = {}
+    minima: dict[str, dict] = {}
+    maxima: dict[str, dict] = {}
     if len(times) == 0:
         return final, minima, maxima
     for k, name in enumerate(columns):
@@ -161,7 +165,7 @@ def statistics(columns, times, rows, decoder=None):
         if finite.any() and kind != "String":
             i_min = int(np.nanargmin(np.where(finite, col, np.nan)))
             i_max = int(np.nanargmax(np.where(finite, col, np.nan)))
-            value = float if kind == "Real" else (lambda x: decoder.value(name, x))
+            value = float if kind == "Real" else partial(decoder.value, name)
             minima[name] = {"value": value(col[i_min]), "time": float(times[i_min])}
             maxima[name] = {"value": value(col[i_max]), "time": float(times[i_max])}
     return final, minima, maxima

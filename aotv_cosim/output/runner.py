@@ -36,7 +36,7 @@ class Run(NamedTuple):
     columns: list
     times: np.ndarray
     rows: np.ndarray
-    decoder: Decoder = None
+    decoder: Decoder | None = None
 
 
 def recorded_columns(scenario):
@@ -83,7 +83,8 @@ def _write_into(scenario, out_dir, progress, make_plots, formats, fmi_calls):
     summary, columns, times, rows, decoder = run
     if "parquet" in formats and summary.stop_reason != "output failed":
         write_parquet(out_dir / "timeseries.parquet", columns, times, rows, summary.units, decoder)
-    if make_plots and len(times) > 1 and summary.status != Status.INTERRUPTED and summary.stop_reason != "output failed":
+    if (make_plots and len(times) > 1 and summary.status != Status.INTERRUPTED
+            and summary.stop_reason != "output failed"):
         summary.plots = plots.overview(out_dir, scenario.system, columns, times, rows, scenario.path.stem)
         summary.plots += [plots.custom(out_dir, scenario.system, spec, columns, times, rows)
                           for spec in scenario.plots]
@@ -96,8 +97,8 @@ def simulate(scenario, open_series=SeriesTable, progress=None, fmi_calls=None) -
 
     open_series(columns, index[, decoder]) makes the series object (a `SeriesTable`, kept in
     memory, or a `TimeSeriesWriter`) that is called with every chunk of rows once the buffer
-    layout `index` is known; it needs `close()` and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred (`interrupts`): a signal
-    ends the run before its next step, or, arriving after the last step, still marks it
+    layout `index` is known; it needs `close()` and `table()`. The summary has no plots. SIGINT/SIGTERM are deferred
+    (`interrupts`): a signal ends the run before its next step, or, arriving after the last step, still marks it
     interrupted. fmi_calls: as for `write_run`; the summary's "fmi_calls" says which ran."""
     with interrupts.deferred():
         return _simulate(scenario, open_series, progress, fmi_calls)
@@ -222,7 +223,7 @@ def _warnings(scenario, outcome):
         return warnings
     conditions = ", ".join(f"{c.signal} changing" if c.threshold is None else
                            f"{c.signal} crossing {c.threshold:g} ({c.direction})" for c in scenario.stop_conditions)
-    return warnings + [f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]
+    return [*warnings, f"no stop condition was met before the stop time {scenario.stop:g} s: {conditions}"]
 
 
 

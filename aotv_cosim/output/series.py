@@ -56,7 +56,7 @@ def write_parquet(path, columns, times, rows, units, decoder=None) -> Path:
     import pyarrow.parquet as pq
 
     path = Path(path)
-    names = ["time"] + list(columns)
+    names = ["time", *columns]
     data = [np.asarray(times, dtype=float)] + [
         np.asarray(rows[:, k], dtype=float) if decoder is None else decoder.column(c, rows[:, k])
         for k, c in enumerate(columns)]

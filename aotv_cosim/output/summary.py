@@ -1,7 +1,6 @@
 """What a finished run reports (`RunSummary`), written as its summary.json (`as_json`)."""
 
 from dataclasses import dataclass, field, fields
-from typing import Optional
 
 from aotv_cosim.status import Status
 
@@ -23,13 +22,13 @@ class RunSummary:
     """Why the run ended, one line ("stop time reached", "h crossed 0 down at t = ... s", ...)."""
     warnings: list
     """What the run did not do that the scenario asked for, and the plausibility warnings."""
-    error: Optional[str]
+    error: str | None
     """The failure's one-line message, or None."""
-    error_detail: Optional[dict]
+    error_detail: dict | None
     """The failure's component, variable, time (s), message, and the FMU's log; or None."""
-    event: Optional[dict]
+    event: dict | None
     """The located stop-condition crossing: signal, threshold, time (s), every value; or None."""
-    terminate_request: Optional[dict]
+    terminate_request: dict | None
     """An FMU's request to end the run: component, communication_point (s), last_successful_time (s)."""
     algorithm: str
     """"gauss-seidel" or "jacobi"."""
@@ -39,17 +38,17 @@ class RunSummary:
     """Stop time, s."""
     step: float
     """Communication step, s."""
-    end_time: Optional[float]
+    end_time: float | None
     """Time of the last recorded row, s (None without rows)."""
     steps: int
     """Communication steps made."""
-    step_control: Optional[dict]
+    step_control: dict | None
     """Error-controlled runs: steps accepted, rejected, smallest and largest step (s), ..."""
     wall_time_s: float
     """Wall-clock time of the run, s."""
     init_time_s: float
     """Wall-clock time of instantiation and initialization, s."""
-    us_per_step: Optional[float]
+    us_per_step: float | None
     """Wall-clock time per step after initialization, microseconds."""
     final: dict
     """{column: last value} (a non-finite Real as its text)."""
@@ -59,7 +58,7 @@ class RunSummary:
     """{column: {"value", "time" (s)}} of each column's largest finite value."""
     units: dict
     """{column: unit}."""
-    types: Optional[dict]
+    types: dict | None
     """{column: type} of the columns that are not Real; None when all are."""
     expectations: list
     """Each expectation checked: signal, at, expected, measured, error, allowed_error, passed."""
@@ -74,7 +73,7 @@ class RunSummary:
     """{"aotv_cosim", "python"} versions."""
     plots: list = field(default_factory=list)
     """The PNG files drawn into the output folder."""
-    outcome: Optional[dict] = None
+    outcome: dict | None = None
     """The run classified as a campaign row would be (montecarlo.outcome), or None."""
 
     def as_json(self) -> dict:

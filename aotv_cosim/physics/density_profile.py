@@ -29,7 +29,7 @@ GRID_TOP = 300000.0
 @lru_cache(maxsize=8)
 def _nodes(length: float, seed: int):
     """The unit-variance process x at the grid nodes 0, GRID_STEP, ..., GRID_TOP (tuple)."""
-    n = int(round(GRID_TOP / GRID_STEP)) + 1
+    n = round(GRID_TOP / GRID_STEP) + 1
     w = np.random.default_rng(seed).standard_normal(n)
     a = math.exp(-GRID_STEP / length)
     b = math.sqrt(1.0 - a * a)

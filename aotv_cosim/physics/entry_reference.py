@@ -81,8 +81,10 @@ def integrate(spacing=2e4 * FT2, rtol=1e-11):
     from scipy.integrate import solve_ivp
 
     x0 = [R_ENTRY, 0.0, 0.0, 0.0, 0.0]
-    mach_event = lambda e, x: _mach_at(x[0], e) - MACH_FINAL
-    mach_event.terminal = True
+    def mach_event(e, x):
+        return _mach_at(x[0], e) - MACH_FINAL
+
+    mach_event.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
     down = solve_ivp(open_loop_derivatives, (E_ENTRY, E_LOWEST), x0, method="RK45",
                      rtol=rtol, atol=1e-12, dense_output=True, events=mach_event)
     e_final = float(down.t_events[0][0])

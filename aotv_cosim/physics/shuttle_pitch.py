@@ -251,7 +251,7 @@ class BackwardRates:
     def __init__(self, spacing: float = 1.0, L: float = GENERIC.L):
         self.spacing = spacing
         self.L = L
-        self.samples = []
+        self.samples: list[tuple[float, float, float, float]] = []
 
     def reset(self):
         self.samples = []
@@ -262,7 +262,7 @@ class BackwardRates:
         0.99999999999997868 s) keeps the same samples as one that multiplies it (this master: k h)."""
         s = self.samples
         if not s or t - s[-1][0] >= self.spacing - TIME_TOLERANCE:
-            self.samples = (s + [(t, v, gamma, theta)])[-3:]
+            self.samples = [*s, (t, v, gamma, theta)][-3:]
 
     def rates(self) -> TrajectoryRates:
         s = self.samples

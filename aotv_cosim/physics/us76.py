@@ -90,7 +90,8 @@ def lower(z: float):
     k = len(bases) - 1
     while k > 0 and h < bases[k][0]:
         k -= 1
-    t_m, p = _layer(*bases[k], h)
+    h_b, t_b, p_b, lapse = bases[k]
+    t_m, p = _layer(h_b, t_b, p_b, lapse, h)
     return t_m, p, p * M0 / (R_STAR * t_m)
 
 

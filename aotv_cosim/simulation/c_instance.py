@@ -13,19 +13,21 @@ argument types FMPy gave them). A pythonfmu FMU runs Python, so its functions ar
 releasing the GIL (`holding_gil`).
 """
 
+import contextlib
 import ctypes
 import functools
 import itertools
 import sys
 import weakref
 from abc import abstractmethod
-from typing import ClassVar
+from collections.abc import Callable
+from typing import Any, ClassVar, cast
 
 from aotv_cosim.errors import InputError
 from aotv_cosim.simulation.instance import FmuInstance, Slots, StepResult
 from aotv_cosim.simulation.unpacked import demote_new_paths, extracted
 
-_LISTENERS = weakref.WeakValueDictionary()
+_LISTENERS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 """instance environment number -> the CInstance whose log it is. FMPy's FMI 2.0 logger proxy keeps
 one logger for the whole process (the last one registered), so each message is routed to its
 instance by the environment number the FMU passes back, not by the closure that receives it."""
@@ -56,8 +58,8 @@ def holding_gil(function):
     each argument, so callers give ctypes values (c_void_p component, c_size_t counts, c_double
     times). Together about 1 us of a 4-5 us call. pythonfmu clears every Python error it meets,
     so ctypes' check for a pending one after the call finds none."""
-    call = ctypes.PYFUNCTYPE(function.restype)(ctypes.cast(function, ctypes.c_void_p).value)
-    call.argtypes = None
+    call = ctypes.PYFUNCTYPE(function.restype)(cast(int, ctypes.cast(function, ctypes.c_void_p).value))
+    call.argtypes = None  # type: ignore[assignment]  # typeshed has no None; ctypes takes it (docstring)
     return call
 
 
@@ -77,11 +79,11 @@ class CInstance(FmuInstance):
     """True when the get and set functions take the number of values after the values (FMI 3.0)."""
     C_TYPES: ClassVar[dict] = {}
     """Call type -> the C type of its values."""
-    WIDE = ()
+    WIDE: tuple[str, ...] = ()
     """Call types of integers that may exceed +-2^53 (read back, such a value fails the run)."""
-    STATE_CALLS = ()
+    STATE_CALLS: tuple[str, ...] = ()
     """The names, without prefix, of the functions that get, set and free an FMU state."""
-    FMPY_CLASS = None
+    FMPY_CLASS: Callable
     """FMPy's class of a co-simulation FMU of this version."""
 
     def __init__(self, name: str, info, start_time: float, stop_time: float, tolerance=None):
@@ -100,7 +102,7 @@ class CInstance(FmuInstance):
         self.raw_get_real = self._entry(f"{prefix}Get{self.FLOAT64}")
         self.raw_set_real = self._entry(f"{prefix}Set{self.FLOAT64}")
         """The float64 get and set and the step, the calls of every sweep (bench/run.py times them)."""
-        self._state_calls = tuple(getattr(self.slave.dll, prefix + n) for n in self.STATE_CALLS)
+        self._state_calls: tuple = tuple(getattr(self.slave.dll, prefix + n) for n in self.STATE_CALLS)
         self._setup(start_time, stop_time, tolerance)
 
     def _entry(self, name: str):
@@ -201,10 +203,8 @@ class CInstance(FmuInstance):
         if self.broken:
             return
         for call in (self.slave.terminate, self._free):
-            try:
+            with contextlib.suppress(Exception):
                 call()
-            except Exception:
-                pass
 
     def _free(self):
         """fmiXFreeInstance, then unload the library, with pythonfmu's interpreter state released
@@ -236,6 +236,7 @@ class CInstance(FmuInstance):
         (pairs empty), else an array of its own with pairs (value index, buffer position)."""
         n = slots.n
         vrs, size = (ctypes.c_uint * n)(*slots.vrs), ctypes.c_size_t(n)
+        pairs: tuple
         if buffer is not None and n and slots.consecutive:
             vals, pairs = (c_type * n).from_buffer(buffer, slots.positions[0] * ctypes.sizeof(c_type)), ()
         else:
@@ -329,6 +330,7 @@ class CInstance(FmuInstance):
         assert outputs.consecutive
         now, length = ctypes.c_double(), ctypes.c_double()
         do_step, flags = self._do_step_call(now, length, rollback)
+        fvals: Any  # the value array bound with set_fresh (None with it)
         set_fresh, fvals, fpairs = self._bound(self.raw_set_real, fresh, ctypes.c_double, buffer) \
             if fresh.n else (None, None, ())
         get_out = self._bound(self.raw_get_real, outputs, ctypes.c_double, buffer)[0] if outputs.n else None

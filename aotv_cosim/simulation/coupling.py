@@ -18,6 +18,8 @@ integers, Booleans, Strings, Enumerations) go through one call per FMI type.
 """
 
 import ctypes
+from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 
@@ -67,7 +69,8 @@ class Coupling:
         self.instances = instances
         self.strings = strings
         self._build(signals)
-        self.advance = self.extrapolate = None
+        self.advance: Callable = cast(Callable, None)  # None until `start_stepping`
+        self.extrapolate: Callable = cast(Callable, None)
 
     # ---- layout -------------------------------------------------------------------------------
     def _build(self, wanted):
@@ -99,7 +102,8 @@ class Coupling:
         total = n_real + sum(len(v) for v in self.typed.values())
         self.values = (ctypes.c_double * max(total, 1))()
         """The buffer: every output the master reads, as float64 (ctypes array)."""
-        self.array = np.frombuffer(self.values, dtype=np.float64)[:total]
+        # a ctypes array has the buffer protocol, which numpy's frombuffer stubs do not accept
+        self.array = np.frombuffer(self.values, dtype=np.float64)[:total]  # type: ignore[call-overload]
         """The buffer as a numpy array (a view)."""
         self.index, layouts, offset = {}, [], 0
         for name in order:
@@ -136,7 +140,7 @@ class Coupling:
         """{call type: Slots} of the variables `names` of component `name`: an input's values at
         its source's position in the buffer, an output's at its own; Float64 (Real) first."""
         info = self.instances[name].info
-        groups = {}
+        groups: dict = {}
         for var in sorted(names):
             where = self.index[".".join(self.sources[(name, var)]) if kind == "set" else f"{name}.{var}"]
             groups.setdefault(info.call_type(var), []).append((info.variables[var].vr, where))

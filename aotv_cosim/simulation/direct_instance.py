@@ -34,6 +34,7 @@ import re
 import sys
 import uuid
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree
 
 from fmpy.model_description import CoSimulation, ModelDescription, ScalarVariable
@@ -89,7 +90,7 @@ def slave_class(resources: Path) -> type:
     return best
 
 
-def info_of_class(cls: type, name: str = "fake", feedthrough: dict = None) -> FmuInfo:
+def info_of_class(cls: type, name: str = "fake", feedthrough: dict | None = None) -> FmuInfo:
     """An `FmuInfo` describing the variables of slave class `cls` (an instance made to list them),
     for a `DirectInstance` without an FMU file; its path is the class's source file, its
     `slave_class` the class (a system component with this info runs in a `Master` with
@@ -113,8 +114,7 @@ def info_of_class(cls: type, name: str = "fake", feedthrough: dict = None) -> Fm
         coSimulation=CoSimulation(modelIdentifier=cls.__name__, canHandleVariableCommunicationStepSize=True),
         modelVariables=declared)
     info = FmuInfo(path=Path(inspect.getfile(cls)), model_description=description, variables=variables,
-                   feedthrough=dict(feedthrough or {}), initial_feedthrough=dict(feedthrough or {}))
-    info.slave_class = cls
+                   feedthrough=dict(feedthrough or {}), initial_feedthrough=dict(feedthrough or {}), slave_class=cls)
     return info
 
 
@@ -162,7 +162,7 @@ class DirectInstance(FmuInstance):
     calls = "direct"
 
     def __init__(self, name: str, info, start_time: float, stop_time: float, tolerance=None,
-                 cls: type = None, resources: str = None):
+                 cls: type | None = None, resources: str | None = None):
         """cls/resources: the slave class and its resources folder (default: `info.slave_class`
         when set, `info_of_class`, else those of the FMU file of `info`, extracted)."""
         super().__init__(name, info, start_time)
@@ -173,7 +173,8 @@ class DirectInstance(FmuInstance):
             cls, resources = slave_class(folder / "resources"), str(folder / "resources")
         self.cls, self.resources = cls, resources or ""
         self.last_successful_time, self.wants_to_terminate = math.nan, False
-        self.slave, self.log_queue = None, None
+        self.slave: Any = None  # pythonfmu's slave (untyped), made by fmi2Instantiate
+        self.log_queue = None
         self._checked("instantiate", self._plain("[fmi2Instantiate]", self._create))
         self._setup(start_time, stop_time, tolerance)
         self._fresh = self._snapshot(start_time, stop_time)
@@ -196,8 +197,8 @@ class DirectInstance(FmuInstance):
         """A new slave object, its log queue and bound methods (instantiation and fmi2Reset)."""
         slave = self.cls(instance_name=self.name, resources=self.resources, logger=id(self), visible=0)
         self.slave, self.log_queue = slave, slave.log_queue
-        self._methods = {f"{kind}_{type_}": getattr(slave, f"{kind}_{type_}")
-                         for kind in ("get", "set") for type_ in ("real", "integer", "boolean", "string")}
+        self._methods: dict[str, Any] = {f"{kind}_{type_}": getattr(slave, f"{kind}_{type_}") for kind in ("get", "set")
+                                         for type_ in ("real", "integer", "boolean", "string")}
 
     def drain_log(self):
         """Move the slave's queued log messages to `messages` and empty its queue."""
@@ -515,7 +516,7 @@ class DirectInstance(FmuInstance):
         if self.broken or self.slave is None:
             return
         self._plain("[terminate]", self.slave.terminate)
-        self.slave = self._methods = None
+        self.slave, self._methods = None, {}
 
 
 _KIND = {"Real": "real", "Integer": "integer", "Boolean": "boolean", "String": "string"}

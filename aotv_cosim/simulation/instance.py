@@ -104,24 +104,24 @@ class FmuInstance(ABC):
     summary.json)."""
 
     calls = "c"
-    step_call = "fmi2DoStep"
-    """The name of the FMI function that steps the FMU, for messages."""
+
+    @property
+    def step_call(self) -> str:
+        """The name of the FMI function that steps the FMU, for messages."""
+        return "fmi2DoStep"
 
     def __init__(self, name: str, info, start_time: float):
         self.name = name
         self.info = info
         self.time = start_time
         self.broken = False
-        self.messages = collections.deque(maxlen=MESSAGES_KEPT)
+        self.messages: collections.deque[tuple[str, str]] = collections.deque(maxlen=MESSAGES_KEPT)
 
     # ---- reporting (shared) -----------------------------------------------------------------
     def last_message(self) -> str:
         """The FMU's last error-level log message (else its last message), one line."""
-        for status, text in reversed(self.messages):
-            if status in ("error", "fatal"):
-                break
-        else:
-            text = self.messages[-1][1] if self.messages else ""
+        errors = (text for status, text in reversed(self.messages) if status in ("error", "fatal"))
+        text = next(errors, self.messages[-1][1] if self.messages else "")
         lines = [line.strip() for line in text.splitlines() if line.strip()]
         return lines[-1] if lines else "no message from the FMU"
 

@@ -29,9 +29,9 @@ class Interrupted(KeyboardInterrupt):
     is: no `except Exception` on its way (a loader reporting a corrupt file) takes it for a failure."""
 
 
-RECEIVED = []
+RECEIVED: list[int] = []
 """The number of the first SIGINT/SIGTERM received while deferred (empty if none)."""
-FORCED = []
+FORCED: list[int] = []
 """The number of the signal `forcible` raised as Interrupted (empty if none): a failure the
 interrupted code reports afterwards (an FMU's fatal status) is the interruption's."""
 

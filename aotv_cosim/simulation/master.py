@@ -29,8 +29,8 @@ The values exchanged and one communication step belong to the run's `coupling.Co
 are views into one shared ctypes buffer that numpy also sees, inputs whose sources lie side by side
 in that buffer are passed as views of it (no copy per step), and the C entry points are called
 directly, or, for the FMUs this package built, their Python slaves (`fmi_calls` "direct",
-`direct_instance`). The loop records the bytes of the buffer per communication point. Non-finite values are searched for in
-whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
+`direct_instance`). The loop records the bytes of the buffer per communication point. Non-finite values are searched for
+in whole chunks when they are flushed, not per step; with decimated recording, a step not recorded
 is summed (a non-finite sum is checked element-wise) and kept if it holds a non-finite value, so
 the first one is found where it was produced. A `pool` kept by the caller lets a sequence
 of runs (Monte Carlo) reset the FMUs instead of instantiating them again.
@@ -41,8 +41,9 @@ import ctypes
 import math
 import os
 import time as clock
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import cast
 
 import numpy as np
 
@@ -52,6 +53,7 @@ from aotv_cosim.model.capabilities import fixed_step_components
 from aotv_cosim.simulation.coupling import Coupling
 from aotv_cosim.simulation.direct_instance import DirectInstance, built_here
 from aotv_cosim.errors import InputError, SimulationError, TerminateRequest
+from aotv_cosim.simulation.instance import FmuInstance
 from aotv_cosim.simulation.interrupts import Interrupted
 from aotv_cosim.simulation.fmi2_instance import Fmi2Instance
 from aotv_cosim.simulation.fmi3_instance import Fmi3Instance
@@ -68,10 +70,10 @@ class Outcome:
 
     status: Status = Status.COMPLETED
     stop_reason: str = "stop time reached"
-    event: Optional[dict] = None
+    event: dict | None = None
     """The located stop-condition crossing (`rows.Rows.event`), or None."""
-    error: Optional[str] = None
-    error_detail: Optional[dict] = None
+    error: str | None = None
+    error_detail: dict | None = None
     """The failure's component, variable, time (s) and message, or None."""
     steps: int = 0
     wall_time: float = 0.0
@@ -81,10 +83,10 @@ class Outcome:
     loop_time: float = 0.0
     """Wall-clock time of the stepping loop, s."""
     fmus: dict = field(default_factory=dict)
-    terminate_request: Optional[dict] = None
+    terminate_request: dict | None = None
     """An FMU that asked to end the run: its component, the last communication point every
     component reached and the FMU's fmi2LastSuccessfulTime (s)."""
-    step_control: Optional[dict] = None
+    step_control: dict | None = None
     """Error-controlled runs (`simulation.step_doubling`): steps accepted, rejected, kept at the min
     bound, sweeps made, smallest and largest step (s)."""
 
@@ -103,7 +105,7 @@ C_INSTANCES = {"2.0": Fmi2Instance, "3.0": Fmi3Instance}
 """fmiVersion -> the `instance.FmuInstance` that calls such an FMU through its C library."""
 
 
-def instance_class(info, fmi_calls: str) -> type:
+def instance_class(info, fmi_calls: str) -> Callable[..., FmuInstance]:
     """The `instance.FmuInstance` implementation that runs the FMU `info` when the run asks for
     `fmi_calls`: an FMU this package built called directly when asked ("direct"), every other
     one through its C library for its FMI version."""
@@ -165,7 +167,7 @@ class Master:
         self.pool = pool
         self.signals = signals_to_read(scenario)
         self.instances = {}
-        self.coupling = None
+        self.coupling = cast(Coupling, None)  # None until `_build_plans`, which every run calls first
         """The run's `Coupling` (buffer and prepared calls), made after initialization."""
         self.strings = Strings()
         """The String values of the run, numbered (`variable_types`): the buffer holds their numbers."""
@@ -187,7 +189,7 @@ class Master:
             outcome.fmus[name] = {"fmu": comp.fmu_ref, "file": str(comp.fmu.path),
                                   "guid": comp.fmu.guid, "fmi_calls": inst.calls,
                                   "wrapper": built_wrapper(comp.fmu.path)}
-        drawn = {}
+        drawn: dict = {}
         for signal, value in {**self.overrides, **bound_values(s, self.overrides)}.items():
             comp, var = signal.split(".", 1)
             drawn.setdefault(comp, {})[var] = value

@@ -39,14 +39,15 @@ def gauss_seidel_order(system):
             steps[(comp, out)] = deps
         return steps[(comp, out)]
 
-    after = {name: set() for name in system.components}
+    after: dict[str, set[str]] = {name: set() for name in system.components}
     for c in system.connections:
         fmu = system.components[c.target].fmu
         immediate = any(c.input in deps and (c.target, out) in connected
                         for out, deps in fmu.feedthrough.items())
         if immediate and c.target not in stepped_before(c.source, c.output):
             after[c.target].add(c.source)
-    order, placed = [], set()
+    order: list[str] = []
+    placed: set[str] = set()
     while len(order) < len(after):
         ready = [n for n in after if n not in placed and after[n] <= placed]
         name = ready[0] if ready else next(n for n in after if n not in placed)

@@ -23,6 +23,7 @@ undone and run again with its tolerances scaled down; the summary's `step_contro
 estimate, the observed order, the attempts and the tolerances used.
 """
 
+import itertools
 import math
 from dataclasses import replace
 
@@ -147,7 +148,7 @@ def _global_error(coupling, start, grid, trial, event, tolerance, step):
     times = np.array([grid[0], *trial.times])  # the trial's rows start after the start point
     fine = np.frombuffer(start.buffer.tobytes() + b"".join(trial.rows),
                          dtype=np.float64).reshape(len(times), -1)[:, columns]
-    coarser_grid = grid[::2] if len(grid) % 2 else grid[::2] + [grid[-1]]
+    coarser_grid = grid[::2] if len(grid) % 2 else [*grid[::2], grid[-1]]
     try:
         with np.errstate(all="ignore"):  # the FMUs' own warnings on a coarse run are not the run's
             coarse = _replay(coupling, start, grid, columns, step)
@@ -190,7 +191,7 @@ def _replay(coupling, start, grid, columns, step):
     out = np.empty((len(grid), len(columns)))
     out[0] = array[columns]
     earlier, h_earlier = array.copy(), grid[1] - grid[0]
-    for k, (a, b) in enumerate(zip(grid, grid[1:]), 1):
+    for k, (a, b) in enumerate(itertools.pairwise(grid), 1):
         before = array.copy()
         step(a, b - a, earlier, h_earlier)
         earlier, h_earlier = before, b - a

@@ -8,7 +8,7 @@ from pathlib import Path
 from aotv_cosim.fmu import build as fmu_build
 from aotv_cosim.model.archives import extract_to
 
-_DIGESTS = {}
+_DIGESTS: dict = {}
 """(path, size, mtime) -> content digest of the FMU files seen by this process."""
 
 

@@ -9,8 +9,8 @@ FMUs run in the master's own interpreter (FMPy calls the FMU's C entry points; a
   monitor thread started by `armed` looks every `limit / 4` s (at most 1 s) and, when the same
   step has run longer than the limit, sends SIGALRM to the main thread. Its handler raises
   `StepLimitReached` in whatever the main thread runs, which for a hung FMU is the FMU's own code
-  (a blocking sleep or wait returns with EINTR first): pythonfmu reports the exception as fmi2Fatal, the master raises its
-  `SimulationError` naming that component, and `limited` turns it into `StepTimeout` ("step
+  (a blocking sleep or wait returns with EINTR first): pythonfmu reports the exception as fmi2Fatal, the master raises
+  its `SimulationError` naming that component, and `limited` turns it into `StepTimeout` ("step
   timeout: fmi2DoStep of COMP did not return within N s at t = T s"): the run is `failed`, its
   rows up to t kept. The limit is met within limit + limit / 4.
 - Native code that never returns to the interpreter, or that blocks SIGALRM, cannot be ended from
@@ -58,7 +58,7 @@ class StepLimitReached(Exception):
     """Raised by the SIGALRM handler in the code that is running when a step's limit passes."""
 
 
-_fired = []
+_fired: list = []
 
 
 def _alarm(signum, frame):

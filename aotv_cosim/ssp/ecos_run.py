@@ -37,7 +37,10 @@ def experiment(ssp):
     with zipfile.ZipFile(ssp) as archive:
         root = ElementTree.fromstring(archive.read("SystemStructure.ssd"))
     node = root.find(f"{SSD}DefaultExperiment")
-    return float(node.get("startTime", "0")), float(node.find(f".//{OSP}FixedStepAlgorithm").get("baseStepSize"))
+    algorithm = node.find(f".//{OSP}FixedStepAlgorithm") if node is not None else None
+    if node is None or algorithm is None:
+        raise ValueError(f"{ssp}: no default experiment with a fixed step")
+    return float(node.get("startTime", "0")), float(algorithm.attrib["baseStepSize"])
 
 
 def load_ecospy():

@@ -154,7 +154,7 @@ def _ssd(scenario, sources, ssv_sources):
         root.set("description", scenario.description)
     top = SubElement(root, q("ssd:System"), {"name": system.path.stem})
     elements = SubElement(top, q("ssd:Elements"))
-    units = {}
+    units: dict = {}
     for comp in system.components.values():
         connected = {c.input for c in system.connections if c.target == comp.name}
         _component(elements, comp, sources[comp.name], ssv_sources.get(comp.name), units, connected)
@@ -241,8 +241,11 @@ def default_experiment(ssp) -> tuple:
     with zipfile.ZipFile(ssp) as archive:
         root = ElementTree.fromstring(archive.read("SystemStructure.ssd"))
     experiment = root.find(q("ssd:DefaultExperiment"))
-    step = experiment.find(".//" + q("osp:FixedStepAlgorithm")).get("baseStepSize")
-    return float(experiment.get("startTime")), float(experiment.get("stopTime")), float(step)
+    algorithm = experiment.find(".//" + q("osp:FixedStepAlgorithm")) if experiment is not None else None
+    if experiment is None or algorithm is None:
+        raise ValueError(f"{ssp}: no default experiment with a fixed step")
+    return (float(experiment.attrib["startTime"]), float(experiment.attrib["stopTime"]),
+            float(algorithm.attrib["baseStepSize"]))
 
 
 def format_value(kind: str, value) -> str:

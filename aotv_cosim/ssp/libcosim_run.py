@@ -51,13 +51,14 @@ def bundled_runtimes():
     """Files of the FMUs' bundled runtime packages (aotv_cosim_<hash>) imported in this process,
     and of aotv_cosim itself if an FMU imported it."""
     return sorted(getattr(module, "__file__", None) or "" for name, module in list(sys.modules.items())
-                  if name == "aotv_cosim" or name.startswith("aotv_cosim_") and "." not in name)
+                  if name == "aotv_cosim" or (name.startswith("aotv_cosim_") and "." not in name))
 
 
 def systems(argv):
     """[(ssp, stop, signals)] of the command line (groups separated by --)."""
-    groups, group = [], []
-    for arg in argv + ["--"]:
+    groups: list[tuple[str, float, list[str]]] = []
+    group: list[str] = []
+    for arg in [*argv, "--"]:
         if arg == "--":
             groups.append((group[0], float(group[1]), group[2:]))
             group = []

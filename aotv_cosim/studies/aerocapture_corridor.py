@@ -30,11 +30,12 @@ def corridor(configuration: str) -> dict:
     configuration ("afe" or "aotv")."""
     scenario = load_scenario(shipped(SCENARIOS[configuration]), UNPERTURBED)
     plant = core.plant_of(scenario)
-    found = core.bounds("target", scenario.outcome.band, no_vertical_lift=True)
+    assert scenario.outcome is not None  # the shipped scenarios state their outcome
+    bounds = core.bounds("target", scenario.outcome.band, no_vertical_lift=True)
     with tempfile.TemporaryDirectory(prefix="aotv_corridor_study_") as tmp:
         paths = core.write_scenarios(scenario, plant, core.FRACTIONS, None, core.step_flown(scenario, None), tmp,
                                      UNPERTURBED)
-        found = core.searches(plant, paths, found, core.nominal_gamma0(scenario), 1e-6)
+        found = core.searches(plant, paths, bounds, core.nominal_gamma0(scenario), 1e-6)
         result = core.fly_in_process(found, core.gamma0_signal(scenario))
     up, down, mid = (math.degrees(result[b]["gamma0"]) for b in ("steep", "shallow", "no_vertical_lift"))
     return {"lift_up": up, "lift_down": down, "no_vertical_lift": mid, "width": down - up,
@@ -45,4 +46,5 @@ if __name__ == "__main__":
     for name in SCENARIOS:
         c = corridor(name)
         print(f"{name}: L/D {c['lift_to_drag']:.2f}: full lift up {c['lift_up']:.4f} deg, full lift down "
-              f"{c['lift_down']:.4f} deg, width {c['width']:.4f} deg; sigma = 90 deg at {c['no_vertical_lift']:.4f} deg")
+              f"{c['lift_down']:.4f} deg, width {c['width']:.4f} deg; "
+              f"sigma = 90 deg at {c['no_vertical_lift']:.4f} deg")

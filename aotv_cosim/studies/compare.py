@@ -81,7 +81,7 @@ def _scenario(comparison: Comparison, label: str) -> Scenario:
             raise InputError(f"the wiring has no component named {comp!r}", file=system.path,
                              entry=f"laws.{label}", fix="name the vehicle 'vehicle' and the law 'guidance'")
     outputs = set(system.outputs())
-    record = [s for s in SIGNALS + ("guidance.solve_time",) if s in outputs]
+    record = [s for s in (*SIGNALS, "guidance.solve_time") if s in outputs]
     missing = [s for s in SIGNALS if s not in outputs]
     if missing:
         raise InputError(f"the wiring lacks {', '.join(missing)}", file=system.path, entry=f"laws.{label}",

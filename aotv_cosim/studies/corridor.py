@@ -312,10 +312,13 @@ class EdgeSearch:
                  fix="give --bracket STEEP SHALLOW around the edge"):
         self.bound, self.path, self.fix = bound, Path(path), fix
         self.angle_tolerance, self.tolerance, self.bracket = angle_tolerance, tolerance, bracket
-        self.low = self.high = None
+        self.low: float | None = None
+        self.high: float | None = None
         """The steepest gamma0 flown above the aim is `high`, the shallowest below it `low`."""
         self.step = FIRST_STEP
-        self.errors, self.points, self.result = {}, [], None
+        self.errors: dict[float, float] = {}
+        self.points: list = []
+        self.result: dict | None = None
         self.waiting = list(bracket) if bracket is not None else [start]
 
     def next(self):
@@ -362,6 +365,7 @@ class EdgeSearch:
         """The next gamma0 away from the entry: steeper while every run is above the aim, shallower
         while every run is below it; InputError at STEEPEST or SHALLOWEST."""
         if self.low is None:
+            assert self.high is not None  # a run has been flown on one side
             edge, gamma0 = STEEPEST, max(STEEPEST, self.high - self.step)
         else:
             edge, gamma0 = SHALLOWEST, min(SHALLOWEST, self.low + self.step)
@@ -412,6 +416,7 @@ def fly_in_process(found: dict, signal: str) -> dict:
         while gamma0 is not None:
             summary = simulate(load_scenario(search.path, {signal: gamma0})).summary
             outcome = summary.outcome
+            assert outcome is not None  # the corridor's scenarios state an outcome (`write_scenarios`)
             search.tell(gamma0, apogee_error(summary.status, outcome["class"], outcome["apogee_error"],
                                              summary.error, search.path, signal, gamma0))
             gamma0 = search.next()

@@ -48,7 +48,9 @@ def figures(s: dict):
     """[(file stem, title, [(x, y, label, style)], x label, y label, invert x)] of Figs. 1-6."""
     m, m_ref = s["vehicle.mach"], s["guidance.mach_ref"]
     nmi, ft = 1.0 / sx2.NMI, 1.0 / sx2.FT
-    g = lambda name: s[f"guidance.{name}"]
+    def g(name):
+        return s[f"guidance.{name}"]
+
     return [
         ("fig1_ground_track", "Fig. 1 ground track", [
             (g("downrange_ref") * nmi, g("crossrange_ref") * nmi, "reference", "--"),

@@ -54,7 +54,7 @@ class Design:
         g = law.gains(self.omega1, self.zeta1, self.omega2, self.zeta2)
         if self.integral:
             return g
-        return law.Gains(g.k1[:3] + (0.0,), g.k2[:2] + (0.0,))
+        return law.Gains((*g.k1[:3], 0.0), (*g.k2[:2], 0.0))
 
 
 def entry_state(perturbation, reference: Reference):
@@ -80,7 +80,8 @@ class Run:
 def simulate(perturbation, plant="full", design=Design(), reference=None, step=5e4 * sx2.FT ** 2):
     """Closed loop from the perturbed entry to E_f, RK4 in energy with |dE| <= step (m^2/s^2)."""
     reference = reference or Reference()
-    g, x, e = design.gains(), *entry_state(perturbation, reference)
+    g = design.gains()
+    x, e = entry_state(perturbation, reference)
     y = np.concatenate([x, [0.0, 0.0]])
 
     def control(e, y):

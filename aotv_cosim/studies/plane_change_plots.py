@@ -23,13 +23,13 @@ import matplotlib
 import numpy as np
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from aotv_cosim.guidance import mae, mae_solution  # noqa: E402
-from aotv_cosim.guidance.plane_change_optimal import solve_optimal  # noqa: E402
-from aotv_cosim.physics import mrrv  # noqa: E402
-from aotv_cosim.studies.shipped import scenario  # noqa: E402
-from aotv_cosim.status import Status  # noqa: E402
+from aotv_cosim.guidance import mae, mae_solution
+from aotv_cosim.guidance.plane_change_optimal import solve_optimal
+from aotv_cosim.physics import mrrv
+from aotv_cosim.studies.shipped import scenario
+from aotv_cosim.status import Status
 
 SCENARIO = scenario("plane_change_mae_guided.json")
 ENTRY = mae.State(mrrv.R_EARTH + 60.0e3, 7851.0, math.radians(-1.35), 0.0)
@@ -118,7 +118,7 @@ def optimal_in_mae_units(opt):
     return p_u, p_gamma, loh
 
 
-def run_guided(out: Path, scenario_path: Path = SCENARIO):
+def run_guided(out: Path, scenario_path: Path = SCENARIO) -> tuple[dict, float]:
     """Run the guided co-simulation into out/guided.
 
     Returns ({signal: array, 'time': array}, exit speed in m/s interpolated at the 60 km crossing).
@@ -131,6 +131,7 @@ def run_guided(out: Path, scenario_path: Path = SCENARIO):
     if summary.status != Status.COMPLETED:
         raise RuntimeError(f"guided run failed: {summary.error}")
     data = np.genfromtxt(run_dir / "timeseries.csv", delimiter=",", names=True, deletechars="")
+    assert data.dtype.names is not None and summary.event is not None  # named columns; the run ended at its event
     return {name: data[name] for name in data.dtype.names}, summary.event["values"]["vehicle.v"]
 
 

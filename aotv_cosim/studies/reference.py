@@ -113,8 +113,8 @@ class ReferenceResult:
     t: np.ndarray
     y: np.ndarray
     final: dict
-    event_time: float = None
-    event: dict = None
+    event_time: float | None = None
+    event: dict | None = None
 
 
 def _component(system, fmu_name):
@@ -196,7 +196,7 @@ def _events(scenario, vehicle, names, R_e):
     events = []
     for cond in scenario.stop_conditions[:1]:
         comp, var = cond.signal.split(".", 1)
-        if comp != vehicle or var not in names + ["h"]:
+        if comp != vehicle or var not in [*names, "h"]:
             continue
         k = 0 if var == "h" else names.index(var)
         offset = R_e if var == "h" else 0.0
@@ -204,7 +204,7 @@ def _events(scenario, vehicle, names, R_e):
         def crossing(t, y, k=k, thr=cond.threshold + offset):
             return y[k] - thr
 
-        crossing.terminal = True
-        crossing.direction = {"up": 1, "down": -1}.get(cond.direction, 0)
+        crossing.terminal = True  # type: ignore[attr-defined]  # read by solve_ivp
+        crossing.direction = {"up": 1, "down": -1}.get(cond.direction, 0)  # type: ignore[attr-defined]  # read by solve_ivp
         events.append(crossing)
     return events

@@ -107,7 +107,7 @@ def plot_table(rows, path: Path) -> Path:
     return path
 
 
-def make_all(out: Path, scenarios: Path = None, progress=None):
+def make_all(out: Path, scenarios: Path | None = None, progress=None):
     """Write every figure and table into out (created); returns (files, Table 8.1 text)."""
     out = Path(out)
     scenarios = Path(scenarios) if scenarios else scenarios_dir()

@@ -16,14 +16,14 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from aotv_cosim.physics import shuttle_trajectory as st  # noqa: E402
-from aotv_cosim.physics.shuttle_pitch import FT  # noqa: E402
-from aotv_cosim.output.runner import run_scenario  # noqa: E402
-from aotv_cosim.simulation.loading import load_scenario  # noqa: E402
-from aotv_cosim.studies.shipped import scenarios_dir  # noqa: E402
+from aotv_cosim.physics import shuttle_trajectory as st
+from aotv_cosim.physics.shuttle_pitch import FT
+from aotv_cosim.output.runner import run_scenario
+from aotv_cosim.simulation.loading import load_scenario
+from aotv_cosim.studies.shipped import scenarios_dir
 
 SCENARIOS = scenarios_dir()
 LAWS = ("feedforward", "fl", "lqr", "adaptive")

@@ -8,6 +8,7 @@ The cases are derived from what a user types (options, --set, --grid, paths, sig
 docs/reliability.md ("Attack corpus") is `table()` of these cases.
 """
 
+import contextlib
 import json
 import math
 import os
@@ -241,7 +242,8 @@ for name, args, fragments in [
     ("mc-workers-huge", ["montecarlo", "{MC}", "--runs", "2", "--workers", "100000"], ["--workers", "100000"]),
     ("mc-seed-negative", ["montecarlo", "{MC}", "--runs", "2", "--seed", "-1"], ["--seed", "seed -1 is outside"]),
     ("mc-seed-2-64", ["montecarlo", "{MC}", "--runs", "2", "--seed", str(2**64)], ["--seed", str(2**64)]),
-    ("mc-max-rss-0", ["montecarlo", "{MC}", "--runs", "2", "--max-rss", "0"], ["--max-rss", "the memory limit 0.0 MiB"]),
+    ("mc-max-rss-0", ["montecarlo", "{MC}", "--runs", "2", "--max-rss", "0"],
+     ["--max-rss", "the memory limit 0.0 MiB"]),
     ("mc-max-rss-nan", ["montecarlo", "{MC}", "--runs", "2", "--max-rss", "nan"], ["--max-rss", "nan"]),
     ("mc-max-rss-negative", ["montecarlo", "{MC}", "--runs", "2", "--max-rss", "-1"], ["--max-rss"]),
     ("mc-step-timeout-inf", ["montecarlo", "{MC}", "--runs", "2", "--step-timeout", "inf"], ["--step-timeout"]),
@@ -279,7 +281,8 @@ for name, args, fragments in [
     case(name, OPTIONS_CLI, "cli", args, "bad", *fragments)
 
 case("run-step-timeout-tiny", OPTIONS_CLI, "cli", ["run", "{N}", "--step-timeout", "1e-9"], "bad",
-     "--step-timeout", "at least 0.1", fixed="flown with no step limit at all (the watchdog never saw a step that long)")
+     "--step-timeout", "at least 0.1",
+     fixed="flown with no step limit at all (the watchdog never saw a step that long)")
 case("mc-step-timeout-tiny", OPTIONS_CLI, "cli", ["montecarlo", "{MC}", "--runs", "2", "--step-timeout", "1e-9"],
      "bad", "--step-timeout", fixed="flown with no step limit")
 case("mc-max-rss-tiny", OPTIONS_CLI, "cli", ["montecarlo", "{MC}", "--runs", "2", "--max-rss", "1e-9"], "bad",
@@ -418,7 +421,8 @@ case("set-nested-past-the-parser", SETS, "cli", ["run", "{N}", "--out", "{out}",
 case("set-given-twice", SETS, "cli", ["run", "{N}", "--out", "{out}", "--set", "vehicle.h0=91000", "--set",
                                       "vehicle.h0=89000"], "bad", "vehicle.h0 is given twice",
      fixed="the last value silently won")
-case("set-typed-enumeration-name", SETS, "cli", ["run", "{home}/typed.json", "--out", "{out}", "--set", "t.mode=Sideways"],
+case("set-typed-enumeration-name", SETS, "cli", ["run", "{home}/typed.json", "--out", "{out}", "--set",
+                                                 "t.mode=Sideways"],
      "bad", "mode is an Enumeration, got 'Sideways'", fmus=True,
      setup=lambda sb: (write(sb.home / "typed_w.json", json.dumps({"components": {"t": {
          "fmu": str(sb.names["TYPED"]), "parameters": {"u": 0.0, "m": 0}}}, "connections": []})),
@@ -448,7 +452,7 @@ for command, args in [("mc", ["montecarlo", "{MC}", "--runs", "1"]),
                       ("sweep", ["sweep", "{P}", "--grid", "vehicle.gamma0=-0.02"]),
                       ("corridor", ["corridor", "{P}", "--lift-to-drag", "1"]),
                       ("check", ["check", "{N}"]), ("bench", ["benchmark", "{SET}", "--runs", "1"])]:
-    case(f"{command}-out-devnull", PATHS, "cli", args + ["--out", "/dev/null"], "bad", "/dev/null", fmus=True)
+    case(f"{command}-out-devnull", PATHS, "cli", [*args, "--out", "/dev/null"], "bad", "/dev/null", fmus=True)
 case("build-out-users-fmu", PATHS, "cli", ["build-fmus", "LiftActuator", "--out", "{home}/fmus"], "bad",
      "LiftActuator.fmu is there and was not written by aotv-cosim", setup=text_file("fmus/LiftActuator.fmu", "mine"),
      fixed="the user's LiftActuator.fmu overwritten")
@@ -521,8 +525,8 @@ for name, setup, target in [("device", None, "/dev/zero"), ("fifo", fifo("pipe.j
                             ("folder", None, "{home}")]:
     case(f"describe-a-{name}", PATHS, "cli", ["describe", target], "bad", "is " if name != "folder" else "is a folder",
          setup=setup, fixed="'file not found' (it was there)")
-case("resume-corrupt-campaign", PATHS, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--resume"], "bad",
-     "corrupt campaign file", setup=text_file("out/campaign.json", "{not json"))
+case("resume-corrupt-campaign", PATHS, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--resume"],
+     "bad", "corrupt campaign file", setup=text_file("out/campaign.json", "{not json"))
 case("resume-corrupt-rows", PATHS, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--resume"], "bad",
      "not a number", setup=text_file("out/rows.csv", "run,status\nabc,completed\n"))
 
@@ -556,8 +560,10 @@ for name, dispersions, fragments in [
                                                           "low": 1.2, "high": 0.8}}, ["must be below high"]),
     ("connected-input", {"vehicle.rho": {"distribution": "uniform", "low": 0.1, "high": 0.2}},
      ["vehicle.rho is not a Real parameter"]),
-    ("output", {"vehicle.h": {"distribution": "uniform", "low": 0.1, "high": 0.2}}, ["vehicle.h is not a Real parameter"]),
-    ("integer", {"vehicle.gravity_model": {"distribution": "uniform", "low": 0, "high": 1}}, ["is not a Real parameter"]),
+    ("output", {"vehicle.h": {"distribution": "uniform", "low": 0.1, "high": 0.2}},
+     ["vehicle.h is not a Real parameter"]),
+    ("integer", {"vehicle.gravity_model": {"distribution": "uniform", "low": 0, "high": 1}},
+     ["is not a Real parameter"]),
     ("unknown", {"vehicle.nope": {"distribution": "uniform", "low": 0, "high": 1}}, ["vehicle.nope"]),
     ("negative-std", {"vehicle.h0": {"distribution": "normal", "mean": 9e4, "std": -1}}, ["dispersions"]),
     ("degrees-for-rad", {"vehicle.gamma0": {"distribution": "uniform", "low": -2.0, "high": -1.0}},
@@ -584,7 +590,8 @@ for name, change, fragments in [
     ("unknown-key", lambda d: d["montecarlo"]["outcome"].update(bnad=5), ["'bnad' was unexpected"]),
     ("vehicle-not-a-vehicle", lambda d: d["montecarlo"]["outcome"].update(vehicle="atmosphere"),
      ["atmosphere.h, atmosphere.v, atmosphere.gamma"]),
-    ("actuator-unknown", lambda d: d["montecarlo"]["outcome"].update(actuator="nobank"), ["'nobank' names no component"]),
+    ("actuator-unknown", lambda d: d["montecarlo"]["outcome"].update(actuator="nobank"),
+     ["'nobank' names no component"]),
     ("scatter-unknown", lambda d: d["montecarlo"].update(scatter=["vehicle.v", "vehicle.nope"]), ["montecarlo"]),
 ]:
     case(f"outcome-{name}", FILES, "cli", ["validate", "{home}/s.json"], "bad", *fragments,
@@ -652,7 +659,8 @@ for name, content, fragments in [
          setup=text_file("L.py", content))
 for name, setup, fragments in [("symlink-to-itself", symlink("L.py", "L.py"), ["symlink loop"]),
                                ("dangling-symlink", symlink("L.py", "nowhere.py"), ["file not found"]),
-                               ("fifo", fifo("L.py"), ["not a regular file"]), ("folder", folder("L.py"), ["is a folder"]),
+                               ("fifo", fifo("L.py"), ["not a regular file"]),
+                               ("folder", folder("L.py"), ["is a folder"]),
                                ("missing", None, ["file not found"])]:
     case(f"law-{name}", SOURCES, "cli", ["build-fmus", "{home}/L.py"], "bad", "L.py", *fragments, setup=setup)
 case("law-hangs-at-import", SOURCES, "cli", ["build-fmus", "{home}/L.py"], "bad", "took more than 2 s",
@@ -792,7 +800,8 @@ for name, address, fragments in [("refused", "tcp://127.0.0.1:1", ["cannot reach
                                  ("port-out-of-range", "tcp://127.0.0.1:99999", ["cannot read the scheduler address"]),
                                  ("empty-host", "tcp://", ["cannot read the scheduler address"]),
                                  ("spaces", "tcp://a b:1", ["expected a Dask scheduler address"])]:
-    case(f"scheduler-{name}", DASK, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--scheduler", address],
+    case(f"scheduler-{name}", DASK, "cli", ["montecarlo", "{MC}", "--runs", "2", "--out", "{out}", "--scheduler",
+                                            address],
          "bad", "--scheduler", *fragments)
 for name, address in [("inproc", "inproc://x"), ("ucx", "ucx://127.0.0.1:1")]:
     case(f"scheduler-{name}", DASK, "cli", ["sweep", "{P}", "--grid", "vehicle.gamma0=-0.02", "--out", "{out}",
@@ -814,10 +823,8 @@ def tcp_server(greeting: bytes):
                 if greeting:
                     self.request.sendall(greeting)
                 self.request.settimeout(10)
-                try:
+                with contextlib.suppress(OSError):
                     self.request.recv(1 << 16)
-                except OSError:
-                    pass
 
         server = socketserver.ThreadingTCPServer(("127.0.0.1", 0), Handler)
         server.daemon_threads = True
@@ -898,10 +905,13 @@ case("fmi3-crafted-fmu-no-cosimulation", FMI3, "cli", ["validate", "{home}/w.jso
      setup=lambda sb: (write(sb.home / "m3.fmu", _zip({"modelDescription.xml": (
          '<?xml version="1.0" encoding="UTF-8"?><fmiModelDescription fmiVersion="3.0" modelName="m" '
          'instantiationToken="{x}"><ModelVariables/><ModelStructure/></fmiModelDescription>')})),
-                       write(sb.home / "w.json", json.dumps({"components": {"g": {"fmu": "m3.fmu"}}, "connections": []}))))
+                       write(sb.home / "w.json", json.dumps({"components": {"g": {"fmu": "m3.fmu"}},
+                                                             "connections": []}))))
 case("fmi3-crafted-fmu-bad-xml", FMI3, "cli", ["validate", "{home}/w.json"], "bad", "components.g.fmu",
-     setup=lambda sb: (write(sb.home / "m3.fmu", _zip({"modelDescription.xml": '<fmiModelDescription fmiVersion="3.0"'})),
-                       write(sb.home / "w.json", json.dumps({"components": {"g": {"fmu": "m3.fmu"}}, "connections": []}))))
+     setup=lambda sb: (write(sb.home / "m3.fmu",
+                             _zip({"modelDescription.xml": '<fmiModelDescription fmiVersion="3.0"'})),
+                       write(sb.home / "w.json", json.dumps({"components": {"g": {"fmu": "m3.fmu"}},
+                                                             "connections": []}))))
 
 
 def _zip(members: dict) -> bytes:
@@ -956,10 +966,8 @@ def _bad_then_good(sb):
     from aotv_cosim.errors import InputError
 
     for _ in range(3):
-        try:
+        with contextlib.suppress(InputError):
             _aotv().run(_p(sb, N), stop=-5.0)
-        except InputError:
-            pass
     assert _aotv().run(_p(sb, N), stop=1.0).status == "completed"
 
 

@@ -205,9 +205,10 @@ def run_process(case: Case, sandbox: Sandbox) -> Outcome:
     """`python -m aotv_cosim ARGS` in the sandbox, each of the case's signals sent once its
     condition holds; killed (and the case failed as a hang) after `case.limit` s."""
     env = dict(os.environ, PYTHONPATH=str(ROOT), TMPDIR=str(sandbox.systmp))
+    # preexec_fn: a resource limit, set in the child before it runs
     child = subprocess.Popen([sys.executable, "-m", "aotv_cosim", *[sandbox.path(str(a)) for a in case.what]],
                              cwd=sandbox.home, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True, start_new_session=True, preexec_fn=case.preexec)  # noqa: PLW1509 - a resource limit
+                             stderr=subprocess.PIPE, text=True, start_new_session=True, preexec_fn=case.preexec)
     deadline = time.monotonic() + case.limit
     try:
         for ready, number in case.signals:

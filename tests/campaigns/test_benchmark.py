@@ -5,6 +5,7 @@ multi-process Dask cluster."""
 import csv
 import json
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -92,7 +93,8 @@ def test_a_law_that_does_not_classify_or_records_other_columns_is_refused_before
     doc = json.loads((folder / "time_linear.json").read_text())
     doc["record"] = doc["record"][:-1]
     write_json(folder / "time_linear.json", doc)
-    with pytest.raises(InputError, match="time_linear.json: record: its campaign columns differ from those of robust"):
+    with pytest.raises(InputError, match=re.escape("time_linear.json: record: its campaign columns differ from those "
+                                                   "of robust")):
         run_benchmark(BenchmarkOptions(scenario_set=folder, runs=2, out=tmp_path / "o"))
     del doc["montecarlo"]["outcome"]
     write_json(folder / "time_linear.json", doc)
@@ -104,7 +106,8 @@ def test_a_law_that_does_not_classify_or_records_other_columns_is_refused_before
 @pytest.mark.integration
 def test_one_law_benchmark_flies_the_law_and_reuses_the_stored_rows_of_the_others(tmp_path):
     folder = _small_set(tmp_path / "set", ["time_linear", "robust"])
-    mine = write_json(tmp_path / "my_law.json", json.loads((SCENARIOS / "systems" / "aotv_time_linear.json").read_text()))
+    mine = write_json(tmp_path / "my_law.json",
+                      json.loads((SCENARIOS / "systems" / "aotv_time_linear.json").read_text()))
     result = CliRunner().invoke(main, ["benchmark", str(folder), "--law", str(mine), "--runs", "3",
                                        "--out", str(tmp_path / "o")])
     assert result.exit_code == 0, result.output
@@ -131,7 +134,8 @@ def test_one_law_benchmark_flies_the_law_and_reuses_the_stored_rows_of_the_other
 @pytest.mark.integration
 def test_a_law_named_like_one_of_the_set_is_refused(tmp_path):
     folder = _small_set(tmp_path / "set", ["time_linear"])
-    clash = write_json(tmp_path / "time_linear.json", json.loads((SCENARIOS / "systems" / "aotv_robust.json").read_text()))
+    clash = write_json(tmp_path / "time_linear.json",
+                       json.loads((SCENARIOS / "systems" / "aotv_robust.json").read_text()))
     with pytest.raises(InputError, match="a law named 'time_linear' is already in the set"):
         run_benchmark(BenchmarkOptions(scenario_set=folder, runs=2, out=tmp_path / "o", laws=[clash]))
 

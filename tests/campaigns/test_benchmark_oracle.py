@@ -82,7 +82,7 @@ def test_a_set_has_at_most_one_oracle_and_its_laws_template_is_not_it():
     assert oracle_score.of_set(laws[1:]) is None and oracle_score.first_law(laws[:1]) == laws[0]
     with pytest.raises(InputError, match=r"c\.json: montecarlo\.oracle: a second oracle: a_oracle\.json is the "
                                          r"set's oracle already; keep \"oracle\": true in one scenario"):
-        oracle_score.of_set(laws + [(Path("c.json"), scenario(True))])
+        oracle_score.of_set([*laws, (Path("c.json"), scenario(True))])
 
 
 def test_the_figure_draws_the_penalty_after_the_dv_and_the_total_heating_where_the_runs_give_it(tmp_path, drawn):

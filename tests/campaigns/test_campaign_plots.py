@@ -3,6 +3,7 @@ symmetric-log axis around the capture band, other values on axes clipped to thei
 with the runs beyond marked; the benchmark's outcome panel."""
 
 import math
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -19,9 +20,9 @@ class _Outcome:
 
 class _Scenario:
     outcome = _Outcome()
-    scatter = []
-    stop_conditions = []
-    dispersions = [object()]
+    scatter: ClassVar[list] = []
+    stop_conditions: ClassVar[list] = []
+    dispersions: ClassVar[list] = [object()]
 
 
 def _rows():
@@ -40,7 +41,8 @@ def _rows():
         elif k == 13:
             error, outcome, status = math.nan, "failed", "failed"
         dv = 100.0 + abs(error) * (1e-4 if abs(error) < 1e5 else 1e-3)
-        rows.append({"run": k, "status": status, "outcome": outcome, "dispersed.vehicle.v0": 10300.0 + rng.uniform(-20, 20),
+        rows.append({"run": k, "status": status, "outcome": outcome,
+                     "dispersed.vehicle.v0": 10300.0 + rng.uniform(-20, 20),
                      "outcome.apogee_error": error, "outcome.dv_total": dv if status == "completed" else math.nan})
     return rows
 
@@ -72,7 +74,7 @@ def test_versus_and_histograms_colour_by_outcome_and_keep_every_run_on_the_plot(
     assert dv.yscale == "linear" and dv.ylim[1] < 300.0  # clipped: the skip-outs' 3,600 and 6,500 m/s
     assert any(t.endswith("above the axis (to 6500)") for t in dv.legend)
     histograms = drawn[(tmp_path / "histograms.png").resolve()]
-    v0, error, correction = histograms.panels
+    _v0, error, correction = histograms.panels
     assert error.xscale == "symlog" and "capture band +-10 km" in error.legend
     assert any(t.endswith("above the axis (to 6500)") for t in correction.legend)
     assert correction.title == "198 of 200 runs have a value"

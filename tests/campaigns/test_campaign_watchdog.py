@@ -150,7 +150,7 @@ def _group(pgid):
 
 
 def _finish(process, timeout=900):
-    stdout, stderr = process.communicate(timeout=timeout)
+    _stdout, stderr = process.communicate(timeout=timeout)
     time.sleep(0.5)
     assert not _group(process.pid), "orphan processes"
     return process.returncode, stderr

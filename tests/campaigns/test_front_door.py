@@ -140,7 +140,7 @@ def test_a_law_file_whose_name_aliases_the_folder_structure_is_refused(tmp_path)
     for name in ("..json", "...json", "laws.json", "LAWS.json", "rows.json", "scorecard.json", ".hidden.json"):
         law = tmp_path / name
         law.write_text("{}")
-        line = _refused(lambda: aotv_cosim.benchmark(SET, law, runs=2, out=tmp_path / "o"),
+        line = _refused(lambda law=law: aotv_cosim.benchmark(SET, law, runs=2, out=tmp_path / "o"),
                         "--law", "would alias the benchmark folder's own files or folders", "rename the file")
         args = ["benchmark", SET, "--law", law, "--runs", "2", "--out", tmp_path / "o"]
         assert _cli_refused(args) == f"error: {line}"

@@ -119,7 +119,7 @@ def test_resume_skips_finished_runs_and_ends_with_the_same_rows(local_20, tmp_pa
     _, local_out = local_20
     lines = _rows(local_out).splitlines(keepends=True)
     # an interrupted campaign: runs 0-4 and 9 written, then a line cut short by the interruption
-    (tmp_path / "rows.csv").write_text("".join(lines[:6] + [lines[10], lines[11][:30]]))
+    (tmp_path / "rows.csv").write_text("".join([*lines[:6], lines[10], lines[11][:30]]))
     (tmp_path / "campaign.json").write_text((local_out / "campaign.json").read_text())
     summary = run_campaign(CampaignOptions(scenario=CAMPAIGN, runs=20, out=tmp_path, workers=1, seed=7, resume=True,
                                            plots=False))
@@ -145,7 +145,7 @@ def test_draws_depend_only_on_campaign_seed_and_run():
         rng = np.random.default_rng(child)
         assert draw(dispersions, 3, k)["a.x"] == rng.uniform(0.0, 1.0)
     values = [draw(dispersions, 3, k)["a.z"] for k in range(200)]
-    assert -0.5 <= min(values) and max(values) <= 0.5
+    assert min(values) >= -0.5 and max(values) <= 0.5
     assert draw(dispersions, 3, 5) == draw(dispersions, 3, 5) != draw(dispersions, 4, 5)
 
 
@@ -153,7 +153,7 @@ def test_three_sigma_ellipse_covers_its_axes():
     rng = np.random.default_rng(0)
     x = rng.normal(0.0, 2.0, 4000)
     y = 0.5 * x + rng.normal(0.0, 0.1, 4000)
-    ex, ey = ellipse_3sigma(x, y)
+    ex, _ey = ellipse_3sigma(x, y)
     assert np.max(np.abs(ex)) == pytest.approx(6.0, rel=0.05)
 
 

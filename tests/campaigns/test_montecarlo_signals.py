@@ -69,7 +69,7 @@ def _alive(pid):
 def reference(campaign, tmp_path_factory):
     out = tmp_path_factory.mktemp("reference")
     process = _start(campaign, out)
-    stdout, stderr = process.communicate(timeout=600)
+    _stdout, stderr = process.communicate(timeout=600)
     assert process.returncode == 0, stderr
     return (out / "rows.csv").read_bytes()
 

@@ -102,7 +102,7 @@ def test_every_fmu_at_once_in_one_c_process(host, unpacked, tmp_path):
 def test_c_host_values_equal_fmpy(name, host, unpacked, tmp_path):
     fmu = fmu_build.ensure_fmu(name)
     args, output, step = unpacked(fmu)
-    [(time, value, _)] = run_in_c_host(host, [args], tmp_path)
+    [(_time, value, _)] = run_in_c_host(host, [args], tmp_path)
     rows = simulate_fmu(str(fmu), stop_time=STEPS * step, step_size=step, output_interval=step, output=[output])
     assert value == rows[output][-1]
 

@@ -76,14 +76,16 @@ def test_fmi3_build_validates_and_declares_the_fmi2_variables(name):
     assert md3.fmiVersion == "3.0" and md3.coSimulation.canHandleVariableCommunicationStepSize
     assert md3.coSimulation.canGetAndSetFMUstate and not md3.coSimulation.canSerializeFMUstate
     time, = [v for v in md3.modelVariables if v.causality == "independent"]
-    assert (time.name, time.unit, time.valueReference) == ("time", "s", max(v.valueReference for v in md2.modelVariables) + 1)
+    assert (time.name, time.unit, time.valueReference) == ("time", "s",
+                                                           max(v.valueReference for v in md2.modelVariables) + 1)
     types = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "String": "String"}
     by_vr = {v.valueReference: v for v in md3.modelVariables}
     for old in md2.modelVariables:
         new = by_vr[old.valueReference]
         assert (new.name, new.type, new.causality, new.variability, new.unit, new.min, new.max, new.nominal) == (
             old.name, types[old.type], old.causality, old.variability, old.unit, old.min, old.max, old.nominal)
-        if old.type == "Real" and old.start is not None:  # FMI 3.0 has the full precision, pythonfmu's FMI 2.0 16 digits
+        # FMI 3.0 has the full precision, pythonfmu's FMI 2.0 16 digits
+        if old.type == "Real" and old.start is not None:
             assert float(old.start) == float(f"{float(new.start):.16g}"), old.name
         else:
             assert old.start == new.start, old.name
@@ -105,7 +107,8 @@ SAME_OUTPUTS = CLEAN_PATH + textwrap.dedent("""
     rows2 = simulate_fmu(fmi2, stop_time=stop, output=outputs)
     rows3 = simulate_fmu(fmi3, stop_time=stop, output=outputs)
     print(json.dumps({"rows": [len(rows2), len(rows3)], "end": float(rows3["time"][-1]),
-                      "same": {n: bool(numpy.array_equal(rows2[n], rows3[n], equal_nan=True)) for n in ["time"] + outputs}}))
+                      "same": {n: bool(numpy.array_equal(rows2[n], rows3[n], equal_nan=True))
+                               for n in ["time"] + outputs}}))
 """) + EXIT
 
 
@@ -207,7 +210,8 @@ REFUSED = CLEAN_PATH + textwrap.dedent("""
         return fmu, vr
 
     fmu, vr = open_fmu(sys.argv[1], FMU3Slave)
-    fmu.instantiate(loggingOn=True, logMessage=lambda env, status, category, message: log.append([status, message.decode()]))
+    fmu.instantiate(loggingOn=True,
+                    logMessage=lambda env, status, category, message: log.append([status, message.decode()]))
     fmu.setInt32([vr["fault_kind"]], [2])
     fmu.setFloat64([vr["fault_time"]], [0.25])
     fmu.enterInitializationMode(startTime=0.0)
@@ -240,7 +244,7 @@ def test_refused_step_discards_and_asks_to_terminate(tmp_path):
     fmi2, fmi3 = both("FaultInjector")
     result = run_script(REFUSED, fmi3, fmi2, cwd=tmp_path)
     ok, done = [0, False, False, False], 0.1
-    assert result["fmi3"]["steps"][:2] == [ok + [done], ok + [2 * done]]
+    assert result["fmi3"]["steps"][:2] == [[*ok, done], [*ok, 2 * done]]
     assert result["fmi3"]["steps"][2] == [2, False, True, False, 0.2]  # discard, terminate, at the step's start
     assert any(status == 3 and "error status fault" in message for status, message in result["fmi3"]["log"])
     assert result["fmi2"] == {"statuses": [0, 0, 2], "terminated": True, "last": 0.2}

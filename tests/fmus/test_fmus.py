@@ -76,7 +76,7 @@ def test_fmu_class_must_define_do_step():
         def do_step(self, current_time, step_size):
             return self.advance(step_size)
 
-    with pytest.raises(TypeError, match="Bad .* must define do_step itself"):
+    with pytest.raises(TypeError, match=r"Bad .* must define do_step itself"):
         class Bad(Concrete):
             pass
     assert NominalTrackingGuidance.__abstractmethods__ >= {"design", "do_step"}

@@ -79,17 +79,19 @@ def test_none_and_false_fail_the_run_the_same_on_both_call_paths(tmp_path, sourc
     result = cli("run", scenario, "--out", tmp_path / "ok", "--no-plots", "--fmi-calls", fmi_calls)
     assert result.exit_code == 0 and json.loads((tmp_path / "ok" / "summary.json").read_text())["status"] == "completed"
 
-    result = cli("run", scenario, "--out", tmp_path / "none", "--no-plots", "--fmi-calls", fmi_calls, "--set", "law.mode=1")
+    result = cli("run", scenario, "--out", tmp_path / "none", "--no-plots", "--fmi-calls", fmi_calls, "--set",
+                 "law.mode=1")
     summary = json.loads((tmp_path / "none" / "summary.json").read_text())
     assert result.exit_code == 1 and summary["status"] == "failed" and summary["end_time"] == 2.0
     said = f"Moody.py, line {do_step_line(source)}: Moody.do_step returned None at t = 2.0 s (a missing `return`?)"
     assert said in summary["error"] and said in result.output
 
-    result = cli("run", scenario, "--out", tmp_path / "false", "--no-plots", "--fmi-calls", fmi_calls, "--set", "law.mode=2")
+    result = cli("run", scenario, "--out", tmp_path / "false", "--no-plots", "--fmi-calls", fmi_calls, "--set",
+                 "law.mode=2")
     summary = json.loads((tmp_path / "false" / "summary.json").read_text())
     assert result.exit_code == 1 and summary["status"] == "failed" and summary["end_time"] == 3.0
     assert "terminate_request" not in summary
-    said = f"fmi2DoStep returned discard at t = 3 s: Moody refused the step at t = 3.0 s: do_step returned False"
+    said = "fmi2DoStep returned discard at t = 3 s: Moody refused the step at t = 3.0 s: do_step returned False"
     assert said in summary["error"] and said in result.output
 
 

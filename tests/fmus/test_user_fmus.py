@@ -118,7 +118,7 @@ def test_a_bad_source_is_reported_with_its_file_and_line(tmp_path):
     bad.write_text("from aotv_cosim.laws import AotvSlave\n\n\nclass Bad(AotvSlave):\n"
                    "    def __init__(self, **kwargs):\n        super().__init__(**kwargs)\n\n"
                    "    def do_step(self, t, dt):\n        return True\n\n\nraise ValueError('oops')\n")
-    with pytest.raises(InputError, match="line 12.*ValueError: oops"):
+    with pytest.raises(InputError, match=r"line 12.*ValueError: oops"):
         fmu_build.ensure_fmu(bad)
     result = CliRunner().invoke(main, ["build-fmus", str(tmp_path / "Missing.py")])
     assert result.exit_code == 2 and "Missing.py" in result.output

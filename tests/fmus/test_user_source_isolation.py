@@ -256,7 +256,8 @@ def test_a_pythonfmu3_source_is_imported_once_and_never_in_the_building_process(
     """Its FMI 3.0 FMU is assembled from the child's report: the import-time code runs in the child
     (once) and in the child that reads the exact start values from the built FMU, never here."""
     counter = tmp_path / "imports.log"
-    source = pythonfmu3_law(tmp_path, "Counted3", before=f"import os\nopen({str(counter)!r}, 'a').write(f'{{os.getpid()}}\\n')\n")
+    source = pythonfmu3_law(tmp_path, "Counted3", before=f"import os\nopen({str(counter)!r}, "
+                                                         f"'a').write(f'{{os.getpid()}}\\n')\n")
     fmu = fmu_build.ensure_fmu(source, tmp_path / "fmus", fmi_version=3)
     pids = counter.read_text().split()
     assert len(pids) == 2 and str(os.getpid()) not in pids, pids

@@ -31,7 +31,7 @@ def _fly(name, inputs, stop=20.0, step=0.5):
 def _expected(h0, v0, gamma0, r_e, cl_s_m, cd_s_m, lift_acc=0.0, gravity=1, stop=20.0, step=0.5):
     x = [r_e + h0, 0.0, 0.0, v0, gamma0, 0.0]
     args = (RHO, lift_acc, cl_s_m, cd_s_m, SIGMA, gravity, 9.81, orbit.MU_EARTH)
-    for _ in range(int(round(stop / step))):
+    for _ in range(round(stop / step)):
         x = point_mass.integrate(x, step, 0.5, args)
     return x
 

@@ -60,7 +60,8 @@ SETS = [("t.n=2147483648", "t.n", "n is a 32-bit Integer, got 2147483648", "betw
          "give UTF-8 text"),
         ('t.text="a\\u0000b"', "t.text", "got 'a\\x00b'", "without NUL characters"),
         ("t.text=" + "x" * 100000, "t.text", "", ""),  # accepted: FMI sets no length limit
-        ("t.n=" + "x" * 100000, "t.n", "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx'... (100000 characters)", "give an Integer")]
+        ("t.n=" + "x" * 100000, "t.n", "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx'... (100000 characters)",
+         "give an Integer")]
 
 
 @pytest.mark.parametrize("given, entry, message, fix", SETS, ids=[s[0][:24] for s in SETS])
@@ -71,7 +72,8 @@ def test_a_bad_typed_value_given_by_set_is_one_line(given, entry, message, fix, 
         from aotv_cosim.model.documents import parse_sets
         from aotv_cosim.simulation.loading import load_scenario
 
-        assert load_scenario(typed_scenario, parse_sets([given])).system.components["t"].parameters["text"] == "x" * 100000
+        scenario = load_scenario(typed_scenario, parse_sets([given]))
+        assert scenario.system.components["t"].parameters["text"] == "x" * 100000
         return
     one_line(args, f"{typed_scenario} (with --set)", f"parameters.{entry}", message, fix)
     assert not (tmp_path / "o").exists()
@@ -82,7 +84,8 @@ def test_enumeration_items_and_booleans_are_accepted_as_documented(typed_scenari
     from aotv_cosim.model.documents import parse_sets
     from aotv_cosim.simulation.loading import load_scenario
 
-    parameters = load_scenario(typed_scenario, parse_sets(["t.mode=Ramp", "t.flag=true"])).system.components["t"].parameters
+    parameters = load_scenario(typed_scenario, parse_sets(["t.mode=Ramp",
+                                                           "t.flag=true"])).system.components["t"].parameters
     assert parameters["mode"] == 2 and parameters["flag"] is True
     assert load_scenario(typed_scenario, {"t.mode": 1}).system.components["t"].parameters["mode"] == 1
 
@@ -181,24 +184,24 @@ def _wiring_law(path, **change):
 def test_bad_law_files_are_one_line_before_any_run(tmp_path):
     out = tmp_path / "o"
     bench = ["benchmark", PASS, "--runs", "2", "--out", out]
-    result = CliRunner().invoke(main, [str(a) for a in bench + ["--law", tmp_path / "missing.json"]])
+    result = CliRunner().invoke(main, [str(a) for a in [*bench, "--law", tmp_path / "missing.json"]])
     assert result.exit_code == 2 and len(result.stderr.strip().splitlines()) == 1
     assert f"error: {tmp_path / 'missing.json'}: --law: file not found; give the path of an existing law" \
         in result.stderr
     unknown = _wiring_law(tmp_path / "unknown.json", fmu="NoSuchLaw")
-    one_line(bench + ["--law", unknown], unknown, "components.guidance.fmu", "no FMU named 'NoSuchLaw'",
+    one_line([*bench, "--law", unknown], unknown, "components.guidance.fmu", "no FMU named 'NoSuchLaw'",
              "give a path to a .fmu file")
     first, second = _wiring_law(tmp_path / "a" / "mine.json"), _wiring_law(tmp_path / "b" / "mine.json")
-    one_line(bench + ["--law", first, "--law", second], second, "--law",
+    one_line([*bench, "--law", first, "--law", second], second, "--law",
              "a law named 'mine' is already given by another --law file", "rename the law file")
     clash = _wiring_law(tmp_path / "time_linear.json")
-    one_line(bench + ["--law", clash], clash, "--law", "a law named 'time_linear' is already in the set", "rename")
+    one_line([*bench, "--law", clash], clash, "--law", "a law named 'time_linear' is already in the set", "rename")
     other = json.loads(PASS.read_text())
     other["system"] = str((PASS.parent / other["system"]).resolve())
     other.pop("dispersion_set")
     other["dispersions"] = {"vehicle.gamma0": {"distribution": "uniform", "low": -0.021, "high": -0.019}}
     scenario = write_json(tmp_path / "scenario_law.json", other)
-    one_line(bench + ["--law", scenario], scenario, "dispersions", "its dispersions differ from those of",
+    one_line([*bench, "--law", scenario], scenario, "dispersions", "its dispersions differ from those of",
              "use the dispersion_set")
     assert not list(out.rglob("rows*"))  # refused before any law is flown
 
@@ -233,7 +236,8 @@ def test_a_reversed_range_is_flown_in_descending_order():
 
 # --- corridor brackets ---------------------------------------------------------------------------
 
-BRACKETS = [(("-0.002", "-0.08"), "--bracket", "the bracket (-0.002, -0.08) rad is not a finite range", "STEEP < SHALLOW"),
+BRACKETS = [(("-0.002", "-0.08"), "--bracket", "the bracket (-0.002, -0.08) rad is not a finite range", "STEEP < "
+                                                                                                        "SHALLOW"),
             (("-0.02", "-0.02"), "--bracket", "the bracket (-0.02, -0.02) rad", "STEEP < SHALLOW"),
             (("nan", "-0.02"), "--bracket", "the bracket (nan, -0.02) rad", "STEEP < SHALLOW"),
             (("-inf", "-0.02"), "--bracket", "the bracket (-inf, -0.02) rad", "STEEP < SHALLOW")]

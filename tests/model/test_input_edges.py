@@ -99,7 +99,8 @@ def test_unwritable_out_folders(tmp_path, where):
     claimed = "cannot make the output folder" if where == "under-a-file" else "not a folder"  # outdir.claimed
     one_line(["run", NOMINAL, "--out", out, "--no-plots"], "--out", claimed)
     one_line(["check", NOMINAL, "--out", out], "--out", "cannot write")
-    one_line(["montecarlo", NOMINAL.parent / "montecarlo_robust_density.json", "--runs", "1", "--out", out], "--out", claimed)
+    one_line(["montecarlo", NOMINAL.parent / "montecarlo_robust_density.json", "--runs", "1", "--out", out], "--out",
+             claimed)
 
 
 @pytest.mark.integration
@@ -108,7 +109,8 @@ def test_unwritable_export_targets(tmp_path, where):
     (tmp_path / "file.txt").write_text("x")
     target = {"under-a-file": tmp_path / "file.txt" / "x.ssp", "dev-null": "/dev/null",
               "a-folder": tmp_path}[where]
-    one_line(["export-ssp", NOMINAL, "-o", target], "--out", "is a directory" if where == "a-folder" else "cannot write")
+    one_line(["export-ssp", NOMINAL, "-o", target], "--out",
+             "is a directory" if where == "a-folder" else "cannot write")
     assert os.path.exists("/dev/null") and not os.path.isfile("/dev/null")
 
 

@@ -39,8 +39,10 @@ def test_ssv_values_in_a_defined_unit_are_converted(nominal_ssp, tmp_path):
 def test_ssv_values_in_an_undefined_or_other_unit_are_refused(nominal_ssp, tmp_path):
     one_line(["validate", _h0_in_km(nominal_ssp, tmp_path / "km.ssp", define=False)],
              "parameter h0", "unit 'km' is not defined")
-    text = _ssv_text(nominal_ssp).replace('<ssv:Real value="8200.0" unit="m/s" />', '<ssv:Real value="8.2" unit="km" />')
-    other = rewritten(nominal_ssp, tmp_path / "other.ssp", {VEHICLE_SSV: text.replace("<ssv:Units>", "<ssv:Units>" + KM)})
+    text = _ssv_text(nominal_ssp).replace('<ssv:Real value="8200.0" unit="m/s" />',
+                                          '<ssv:Real value="8.2" unit="km" />')
+    other = rewritten(nominal_ssp, tmp_path / "other.ssp", {VEHICLE_SSV: text.replace("<ssv:Units>",
+                                                                                      "<ssv:Units>" + KM)})
     one_line(["validate", other], "parameter v0", "cannot be converted to the FMU's unit 'm/s'")
 
 
@@ -48,7 +50,8 @@ def test_ssv_values_in_an_undefined_or_other_unit_are_refused(nominal_ssp, tmp_p
 def test_duplicate_ssp_components_and_members_are_refused(nominal_ssp, tmp_path):
     text = ssd_text(nominal_ssp)
     twice = text.replace('<ssd:Component name="atmosphere"', '<ssd:Component name="vehicle"', 1)
-    one_line(["validate", rewritten(nominal_ssp, tmp_path / "c.ssp", {SSD: twice})], "two components are named 'vehicle'")
+    one_line(["validate", rewritten(nominal_ssp, tmp_path / "c.ssp", {SSD: twice})], "two components are named "
+                                                                                     "'vehicle'")
     with pytest.warns(UserWarning, match="Duplicate name"):
         doubled = rewritten(nominal_ssp, tmp_path / "m.ssp", add={SSD: text})
     one_line(["validate", doubled], "appears twice")
@@ -140,7 +143,10 @@ def test_unit_conversion_rules():
 
     m, km = ((0, 1, 0, 0, 0, 0, 0, 0), 1.0, 0.0), ((0, 1, 0, 0, 0, 0, 0, 0), 1000.0, 0.0)
     kelvin, celsius = ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 0.0), ((0, 0, 0, 0, 1, 0, 0, 0), 1.0, 273.15)
-    convert = lambda v, u, f, ssp, fmu: to_fmu_unit(v, u, f, ssp, fmu, file="x.ssp", entry="p")
+
+    def convert(v, u, f, ssp, fmu):
+        return to_fmu_unit(v, u, f, ssp, fmu, file="x.ssp", entry="p")
+
     assert convert(2.5, "km", "m", {"km": km}, {"m": m}) == pytest.approx(2500.0)
     assert convert(2.5, "km", "m", {"km": km}, {}) == pytest.approx(2500.0)  # 'm' is a base unit
     assert convert(20.0, "degC", "K", {"degC": celsius}, {"K": kelvin}) == pytest.approx(293.15)

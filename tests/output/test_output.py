@@ -56,7 +56,7 @@ def test_two_runs_into_one_folder_cannot_touch_each_other(tmp_path):
         assert first.poll() is None
         first.send_signal(signal.SIGTERM)  # pending until the first runs again
         first.send_signal(signal.SIGCONT)
-        stdout, stderr = first.communicate(timeout=300)
+        _stdout, stderr = first.communicate(timeout=300)
     finally:
         first.kill()
     assert first.returncode == 143, stderr
@@ -113,7 +113,7 @@ class _FullFile:
 def _fills_up(name, room):
     """A replacement for open() whose file `name` fills up after `room` bytes."""
     def opener(path, *args, **kwargs):
-        f = open(path, *args, **kwargs)
+        f = open(path, *args, **kwargs)  # noqa: SIM115 - returned to the code under test, which closes it
         return _FullFile(f, room) if os.path.basename(path) == name else f
     return opener
 

@@ -65,13 +65,13 @@ def test_run_of_a_loaded_scenario_with_overrides():
     assert scenario.system.components["vehicle"].parameters["h0"] == 90000.0  # the given one is unchanged
     full = aotv_cosim.run(scenario, step=0.5)
     assert full.passed is False and len(full.expectations) == 7  # a coarser step misses the tolerances
-    with pytest.raises(InputError, match="has no variable 'h00'.*parameters: .*h0"):
+    with pytest.raises(InputError, match=r"has no variable 'h00'.*parameters: .*h0"):
         aotv_cosim.run(scenario, set={"vehicle.h00": 1.0})
-    with pytest.raises(InputError, match="stop .* must be after start"):
+    with pytest.raises(InputError, match=r"stop .* must be after start"):
         aotv_cosim.run(scenario, stop=-1.0)
     with pytest.raises(InputError, match="plots need an output folder"):
         aotv_cosim.run(scenario, plots=True)
-    with pytest.raises(InputError, match="--format: unknown time series format.s. 'hdf5'; give csv and/or parquet"):
+    with pytest.raises(InputError, match=r"--format: unknown time series format.s. 'hdf5'; give csv and/or parquet"):
         aotv_cosim.run(scenario, out="unused", formats=("csv", "hdf5"))
 
 
@@ -108,7 +108,7 @@ def test_describe_an_fmu_and_a_wiring():
     assert w.loc[("atmosphere", "rho_ref"), "value"] == 1.752
     s = aotv_cosim.describe(SCENARIOS / "aotv_table8_1_row03.json").set_index(["component", "variable"])
     assert s.loc[("atmosphere", "rho_ref"), "value"] == 1.5  # the scenario's override
-    with pytest.raises(InputError, match="no FMU named 'PointMass'.*did you mean PointMassVehicle"):
+    with pytest.raises(InputError, match=r"no FMU named 'PointMass'.*did you mean PointMassVehicle"):
         aotv_cosim.describe("PointMass")
 
 

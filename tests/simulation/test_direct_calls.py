@@ -185,7 +185,7 @@ def test_dispersed_runs_of_a_benchmark_set_are_the_same_on_both_paths():
         for k in range(2):
             rows = []
             master = Master(scenario, overrides=draw(scenario.dispersions, 0, k), pool=pool, fmi_calls=calls)
-            outcome = master.run(SimpleNamespace(record=lambda t, r: rows.extend(zip(t, r))))
+            outcome = master.run(SimpleNamespace(record=lambda t, r, rows=rows: rows.extend(zip(t, r))))
             runs.append((outcome.status, outcome.stop_reason, outcome.event, [(t, bytes(r)) for t, r in rows]))
         for inst in pool.values():
             inst.close()

@@ -175,7 +175,8 @@ def test_fmi2_and_fmi3_fmus_run_in_one_system(tmp_path, fmus, algorithm, inputs)
     ("t.u64_out -> t2.i64_in", "type mismatch: UInt64 -> Int64", "holds every UInt64 value"),
     ("m.x -> t2.f32_in", "type mismatch: Real -> Float32", "connect variables of the same type"),
     ("t.blob_out -> t2.text_in", "type mismatch: Binary -> String", "connect variables of the same type"),
-    ("t.i8_out -> t2.f32_in (as Real)", "cannot convert Int8 -> Float32 (as Real)", "to a Real input (FMI 3.0: Float64)")])
+    ("t.i8_out -> t2.f32_in (as Real)", "cannot convert Int8 -> Float32 (as Real)",
+     "to a Real input (FMI 3.0: Float64)")])
 def test_fmi3_connections_that_could_lose_values_are_refused(tmp_path, fmus, connection, cause, fix):
     target = connection.split("-> t2.")[1].split(" ")[0]
     wiring = {"components": {"t": {"fmu": str(fmus / "Typed3.fmu"), "parameters": EDGES},
@@ -273,7 +274,8 @@ def test_a_pooled_fmi3_instance_is_reset_for_the_next_run(tmp_path, fmus):
     pool, runs, instances = {}, [], []
     for _ in range(2):
         rows = []
-        outcome = Master(scenario, pool=pool).run(SimpleNamespace(record=lambda t, r, rows=rows: rows.extend(zip(t, r))))
+        outcome = Master(scenario, pool=pool).run(SimpleNamespace(record=lambda t, r, rows=rows: rows.extend(zip(t,
+                                                                                                                 r))))
         assert outcome.status == "completed", outcome.error
         runs.append([(t, bytes(r)) for t, r in rows])
         instances.append(pool["t"])

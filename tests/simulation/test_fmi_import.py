@@ -21,7 +21,8 @@ from aotv_cosim.output.runner import run_scenario, simulate
 from aotv_cosim.simulation.loading import load_scenario
 from tests.helpers import one_line, write_json
 
-pytestmark = [pytest.mark.integration, pytest.mark.skipif(not typed_fmus.have_gcc(), reason="no gcc to compile the C test FMU")]
+pytestmark = [pytest.mark.integration, pytest.mark.skipif(not typed_fmus.have_gcc(), reason="no gcc to compile the C "
+                                                                                            "test FMU")]
 
 
 @pytest.fixture(scope="session")
@@ -122,7 +123,7 @@ def test_a_converted_input_without_feedthrough_is_set_with_extrapolated_inputs(t
     wiring = {"components": {"c": {"fmu": "Counter.fmu", "parameters": {"first": 1, "increment": 2, "enabled": True}},
                              "m": {"fmu": "Modes.fmu", "parameters": {"mode": 1}}},
               "connections": ["c.count -> m.bias (as Real)"]}
-    summary, frame = _run(tmp_path, fmus, wiring, {"stop": 1.0, "algorithm": "jacobi",
+    _summary, frame = _run(tmp_path, fmus, wiring, {"stop": 1.0, "algorithm": "jacobi",
                                                    "step": {"size": 0.25, "inputs": "extrapolated"}})
     assert frame["m.x"].tolist() == [0.0, 0.25, 1.0, 2.25, 4.0]  # sum of 1, 3, 5, 7 m/s times 0.25 s
 
@@ -177,7 +178,8 @@ def test_one_fmu_with_every_output_type_agrees_with_fmpy(tmp_path, fmus):
 def test_a_terminate_request_ends_the_run_cleanly(tmp_path, fmus):
     """fmi2Discard with fmi2Terminated: status terminated, exit 0, the rows up to the FMU's last
     successful time kept (as FMPy records them), expectations checked there."""
-    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": "Ramp", "terminate_at": 0.55}}},
+    wiring = {"components": {"m": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": "Ramp",
+                                                                      "terminate_at": 0.55}}},
               "connections": []}
     scenario = {"stop": 1.0, "step": 0.1, "expectations": [
         {"signal": "m.x", "at": "end", "value": 0.55, "tolerance": 1e-12, "source": "1 m/s for 0.55 s"}]}
@@ -216,7 +218,8 @@ def test_a_terminate_request_in_a_system_keeps_the_last_common_point(tmp_path, f
 def test_a_fixed_step_fmu_is_only_given_its_step(tmp_path, fmus, options):
     """ModesFixed (canHandleVariableCommunicationStepSize false) fails any other step: it runs to
     the end, or to an interpolated event, under every stepping mode; the last step is the step."""
-    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "mode": 2, "fixed_step": 0.125}},
+    wiring = {"components": {"a": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "mode": 2,
+                                                                           "fixed_step": 0.125}},
                              "b": {"fmu": "ModesFixed.fmu", "parameters": {"bias": 0.0, "fixed_step": 0.125}}},
               "connections": ["a.mode_out -> b.mode"]}
     step = {"size": 0.125, **options["step"]} if "step" in options else 0.125
@@ -277,7 +280,8 @@ def test_times_come_from_the_default_experiment(tmp_path, fmus):
              "a: 1 s; b: 2 s", 'give "stop"')
     _files(tmp_path, wiring, {"stop": 1.0})
     assert load_scenario(tmp_path / "s.json").step == 0.1
-    _files(tmp_path, {"components": {"b": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 1}}}, "connections": []},
+    _files(tmp_path, {"components": {"b": {"fmu": "Modes.fmu", "parameters": {"bias": 0.0, "mode": 1}}},
+                      "connections": []},
            {"stop": 1.0})
     one_line(["validate", tmp_path / "s.json"], "step", "no FMU of the system gives a DefaultExperiment stepSize")
 
@@ -305,7 +309,8 @@ def test_nothing_is_left_out_silently(tmp_path, fmus):
         z.writestr("modelDescription.xml", xml)
         for item, data in binary:
             z.writestr(item, data)
-    summary, _ = _run(tmp_path, fmus, {"components": {"q": {"fmu": "NoOutput.fmu", "parameters": {"bias": 0.0, "mode": 1}}},
+    summary, _ = _run(tmp_path, fmus, {"components": {"q": {"fmu": "NoOutput.fmu", "parameters": {"bias": 0.0,
+                                                                                                  "mode": 1}}},
                                        "connections": []},
                       {"stop": 1.0, "step": 0.5})
     assert summary["status"] == "completed"

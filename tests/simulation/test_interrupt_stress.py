@@ -18,6 +18,7 @@ import random
 import signal
 import threading
 import time
+from typing import ClassVar
 
 import pytest
 from click.testing import CliRunner
@@ -127,7 +128,7 @@ def test_signals_at_random_moments_of_runs(tmp_path, signaller):
             result = _invoke(scenario, out)
             timer.join()
             status = json.loads((out / "summary.json").read_text())["status"]
-            if strays.count > before or status == "completed" and interrupts.received():
+            if strays.count > before or (status == "completed" and interrupts.received()):
                 # arrived before the command listened, or after it wrote the summary
                 assert result.exit_code == 0 and status == "completed", result.output
                 check_whole_rows(out)
@@ -190,7 +191,7 @@ def test_a_time_without_its_row_is_dropped_at_the_flush():
 
     class Master:
         coupling = Coupling()
-        received = []
+        received: ClassVar[list] = []
 
         def record(self, times, rows):
             self.received.append((list(times), rows.tolist()))

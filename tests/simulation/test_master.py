@@ -69,7 +69,7 @@ def test_a_true_algebraic_loop_through_the_lift_is_rejected(tmp_path, wiring_doc
     """lift_acc depends on u_lift at the same instant: feeding it back into u_lift is a loop."""
     wiring_doc["connections"].remove("actuator.position -> vehicle.u_lift")
     wiring_doc["connections"].append("accelerometer.position -> vehicle.u_lift")
-    with pytest.raises(InputError, match="algebraic loop of direct feedthrough: .*vehicle.lift_acc"):
+    with pytest.raises(InputError, match=r"algebraic loop of direct feedthrough: .*vehicle.lift_acc"):
         load_scenario(_with_accelerometer(wiring_doc, scenario_doc, tmp_path, measured="lift_acc"))
 
 
@@ -148,7 +148,7 @@ def test_set_changes_the_entry_state(tmp_path):
 
 
 def test_summary_is_complete(nominal):
-    summary, out = nominal
+    _summary, out = nominal
     data = json.loads((out / "summary.json").read_text())
     for key in ("status", "stop_reason", "final", "min", "max", "expectations", "wall_time_s", "steps", "fmus"):
         assert key in data

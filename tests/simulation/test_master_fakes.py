@@ -86,17 +86,17 @@ def test_gauss_seidel_passes_the_value_at_the_new_communication_point(tmp_path):
 def test_jacobi_passes_the_value_at_the_old_communication_point(tmp_path):
     outcome, col, times = run(scenario(tmp_path, algorithm="jacobi"))
     assert outcome.status == Status.COMPLETED
-    assert col["ramp.y"] == times and col["hold.z"] == [0.0] + times[:-1]
+    assert col["ramp.y"] == times and col["hold.z"] == [0.0, *times[:-1]]
 
 
 def test_a_stop_condition_ends_the_run_at_its_interpolated_crossing(tmp_path):
-    outcome, col, times = run(scenario(tmp_path, stop_conditions=[
+    outcome, _col, times = run(scenario(tmp_path, stop_conditions=[
         {"signal": "ramp.y", "crosses": 0.6, "direction": "up"}]))
     assert outcome.status == Status.COMPLETED and times[-1] == 0.75
     assert outcome.event["time"] == pytest.approx(0.6) and "ramp.y crossed 0.6 up" in outcome.stop_reason
 
 
 def test_a_terminate_request_ends_the_run_with_the_rows_before_it(tmp_path):
-    outcome, col, times = run(scenario(tmp_path, parameters={"ramp.end_at": 0.6}))
+    outcome, _col, times = run(scenario(tmp_path, parameters={"ramp.end_at": 0.6}))
     assert outcome.status == Status.TERMINATED and times == [0.0, 0.25, 0.5]
     assert outcome.terminate_request["component"] == "ramp"

@@ -3,6 +3,7 @@
 The accuracy checks are against the monolithic SciPy reference (rtol 1e-12), whose own error is
 far below the tolerances asked here; the error budget is the scenario's tolerance itself."""
 
+import itertools
 import json
 import subprocess
 import sys
@@ -45,7 +46,7 @@ def test_asking_for_one_metre_gives_one_metre_at_tf(tmp_path):
     stats = outcome.step_control
     # the step adapts: 4 is MOST_GROWTH, one step's most growth (step_control)
     assert stats["accepted"] * 2 == outcome.steps and stats["largest"] > 4 * stats["smallest"]
-    assert all(b > a for a, b in zip(times, times[1:]))
+    assert all(b > a for a, b in itertools.pairwise(times))
 
 
 @pytest.mark.integration
@@ -55,7 +56,7 @@ def test_the_global_error_estimate_is_the_error(tmp_path):
     room for its asymptotic nature, not for machine differences (the runs are deterministic).
     Where the observed order falls (1 at 1 m asked) the estimate is larger than the error."""
     scenario = adaptive(tmp_path, NOMINAL, {"size": 0.5, "tolerance": {"vehicle.h": 0.1}})
-    outcome, times, rows, index = run(scenario)
+    outcome, _times, rows, index = run(scenario)
     error = abs(rows[-1][index["vehicle.h"]] - reference_run(load_scenario(NOMINAL)).final["vehicle.h"])
     stats = outcome.step_control
     assert stats["check"] == "global" and stats["attempts"] == 1 and stats["tolerance_met"]
@@ -70,13 +71,13 @@ def test_a_tolerance_the_local_errors_miss_is_met_on_the_global_error(tmp_path):
     the attempt kept is recorded."""
     ref = reference_run(load_scenario(NOMINAL)).final["vehicle.gamma"]
     step = {"size": 0.5, "tolerance": {"vehicle.gamma": 1e-6}}
-    local, _, local_rows, index = run(adaptive(tmp_path, NOMINAL, {**step, "check": "local"}))
+    _local, _, local_rows, index = run(adaptive(tmp_path, NOMINAL, {**step, "check": "local"}))
     assert abs(local_rows[-1][index["vehicle.gamma"]] - ref) > 1e-6
     outcome, times, rows, index = run(adaptive(tmp_path, NOMINAL, step, name="global.json"))
     stats = outcome.step_control
     assert stats["attempts"] >= 2 and stats["tolerance_met"] and stats["tolerance_used"]["vehicle.gamma"] < 1e-6
     assert abs(rows[-1][index["vehicle.gamma"]] - ref) <= 1e-6
-    assert len(times) == outcome.steps + 1 and all(b > a for a, b in zip(times, times[1:]))
+    assert len(times) == outcome.steps + 1 and all(b > a for a, b in itertools.pairwise(times))
 
 
 @pytest.mark.integration
@@ -143,7 +144,7 @@ def test_a_rejected_step_restores_every_fmu(tmp_path):
 @pytest.mark.integration
 def test_the_exit_crossing_is_located_on_a_computed_state(tmp_path):
     scenario = adaptive(tmp_path, EXIT, {"size": 1.0, "tolerance": {"vehicle.h": 1.0}})
-    outcome, times, rows, _ = run(scenario)
+    outcome, times, _rows, _ = run(scenario)
     ref = reference_run(load_scenario(EXIT))
     assert outcome.status == "completed" and outcome.event["signal"] == "vehicle.h"
     assert abs(outcome.event["values"]["vehicle.h"] - 90000.0) <= 1.0

@@ -34,7 +34,8 @@ def test_installed_figure_modules_find_their_scenarios(tmp_path):
     _wheel_layout(site)
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
-    code = ("import aotv_cosim.studies.plane_change_plots as p, aotv_cosim.studies.shuttle_report as s, aotv_cosim.studies.shipped as sh;"
+    code = ("import aotv_cosim.studies.plane_change_plots as p, aotv_cosim.studies.shuttle_report as s, "
+            "aotv_cosim.studies.shipped as sh;"
             "print(p.SCENARIO); print(s.SCENARIOS); print(sh.scenario('aotv_compare.json').is_file(),"
             " sh.scenario('entry_ideal_combined.json').is_file(), (s.SCENARIOS / 'shuttle_fl_400kft.json').is_file(),"
             " len(list(s.SCENARIOS.glob('aotv_table8_1_row*.json'))))")

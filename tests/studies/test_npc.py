@@ -9,6 +9,7 @@ atmosphere. The exit apogee of each NPC scenario is pinned by its expectations
 
 import csv
 import dataclasses
+import itertools
 import json
 import math
 
@@ -30,7 +31,7 @@ ENTRY = (90e3, 8200.0, -0.02)
 
 def test_target_is_the_apogee_of_the_table_4_1_exit_orbit():
     """Extraction Sec. 5 [D]: the exit state implies apogee altitude 1191.15 km."""
-    assert npc.TARGET_APOGEE_000 == pytest.approx(1191.15e3, abs=10.0)
+    assert pytest.approx(1191.15e3, abs=10.0) == npc.TARGET_APOGEE_000
 
 
 def test_lift_profile_phases():
@@ -138,7 +139,7 @@ def test_density_scale_is_measured_from_the_navigated_state(scale):
     """Drag from dv/dt and g sin(gamma) over 2 s against the model's: the scale to 0.2 %
     (measured 1.1985 for 1.2; the trapezoid and the 0.1 s hold of rho set the residual)."""
     samples = _fly_hold(scale, 4.0)
-    for a, b in zip(samples, samples[1:]):
+    for a, b in itertools.pairwise(samples):
         assert npc.measured_density_ratio(a, b, MODEL) == pytest.approx(scale, rel=2e-3)
     assert math.isnan(npc.measured_density_ratio(samples[0], samples[0], MODEL))
 
@@ -167,8 +168,8 @@ def _series(summary_dir):
 @pytest.mark.integration
 def test_fmu_flies_the_cycle_it_reported_at_the_cycle_time(tmp_path):
     """The u_c read at a cycle time stays in force until the next cycle, and u is the mean of the
-    profile solved then over the 0.1 s step (command_hold): a Gauss-Seidel master sets the inputs to the next state before do_step,
-    and the cycle must not be recomputed from those."""
+    profile solved then over the 0.1 s step (command_hold): a Gauss-Seidel master sets the inputs to the next state
+    before do_step, and the cycle must not be recomputed from those."""
     scenario = load_scenario(SCENARIOS / "aotv_npc_density1_2.json")
     scenario.stop, scenario.stop_conditions = 8.0, []
     summary = run_scenario(scenario, tmp_path, make_plots=False).as_json()

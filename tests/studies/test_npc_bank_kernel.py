@@ -49,7 +49,8 @@ def test_a_profile_scale_is_piecewise_linear_in_altitude_with_the_ends_held():
 def test_a_one_node_profile_predicts_what_its_constant_scale_predicts():
     state = (av.H_INTERFACE, av.geo_return_speed(), -0.07773)
     constant = npc_bank.fly(0.0, state, 0.1, 1.07, AFE, SETTINGS)
-    assert _bits(npc_bank.fly(0.0, state, 0.1, npc_bank.ScaleProfile((0.0,), (1.07,)), AFE, SETTINGS)) == _bits(constant)
+    assert _bits(npc_bank.fly(0.0, state, 0.1, npc_bank.ScaleProfile((0.0,), (1.07,)), AFE,
+                              SETTINGS)) == _bits(constant)
 
 
 CASES = [  # (t_k, (h, v, gamma), x, scale, model changes, settings changes)

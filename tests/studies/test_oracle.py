@@ -29,7 +29,7 @@ def test_plan_commands_full_lift_up_then_the_exit_bank():
     plan = ob.Plan(t_switch=40.0, sigma_2=2.0, prediction=None, admissible=True, predictions=1)
     assert [plan.command(t) for t in (0.0, 39.0, 40.0, 41.0)] == [0.0, 0.0, 2.0, 2.0]
     assert ob.exit_bank(-1.0) == ob.LIFT_DOWN and ob.exit_bank(1.0) == 0.0
-    assert math.cos(ob.LIFT_DOWN) == -1.0 and ob.LIFT_DOWN < math.pi
+    assert math.cos(ob.LIFT_DOWN) == -1.0 and math.pi > ob.LIFT_DOWN
 
 
 @pytest.mark.parametrize("name", ["afe", "aotv"])
@@ -99,7 +99,8 @@ def test_the_oracle_model_is_the_co_simulated_pass(tmp_path, name):
     model = ob.TruthModel(wired["CL"] * s_m, doc["parameters"]["vehicle.CD"] * s_m, density_factor=1.1,
                           profile_sigma=0.1, profile_seed=4242.0, rate_limit=actuator["rate_limit"],
                           accel_limit=actuator["accel_limit"], r_earth=R_E, mu=MU)
-    settings = ob.OracleSettings(av.TARGET_APOGEE, av.H_INTERFACE, deadband=components["bank"]["parameters"]["deadband"])
+    settings = ob.OracleSettings(av.TARGET_APOGEE, av.H_INTERFACE,
+                                 deadband=components["bank"]["parameters"]["deadband"])
     flown = ob.fly(ob.entry_state((wired["h0"], wired["v0"], wired["gamma0"], 0.0, 0.0), model), 0.0,
                    first["bank.t_switch"], first["bank.sigma_2"], model, settings)
     assert flown.exited and run.summary["outcome"]["class"] == "captured"

@@ -27,7 +27,7 @@ STATES_KM = [
 def test_ballistic_parameter_and_units():
     """K = rho_s C_D0 / (2 m/S) = 2.92e-4 1/m = 0.292 1/km (eq. 2.8; extraction Sec. 3.2 [D],
     Table 8.1 nominal row 0.000292 1/m); km constants are Table 4.1 in km (extraction Sec. 2.2)."""
-    assert planar.K_BALL_000 == pytest.approx(2.92e-4, rel=1e-12)
+    assert pytest.approx(2.92e-4, rel=1e-12) == planar.K_BALL_000
     assert KM.k_ball == pytest.approx(0.292, rel=1e-12)
     assert (KM.scale_height, KM.r_earth, KM.g) == pytest.approx((7.045, 6378.1, 9.81e-3), rel=1e-12)
     assert (SI.scale_height, SI.r_earth, SI.g) == pytest.approx((7045.0, 6378.1e3, 9.81), rel=1e-12)

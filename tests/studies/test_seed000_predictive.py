@@ -178,7 +178,7 @@ def test_fit_8_4_intercept_typo():
     """Extraction Sec. 8 item 3 [D]: the line through the first and last Table 8.1 rows has slope
     -503.9497 and intercept 449.94712 s; the printed (8.4) intercept 448.94712 is 1.000 s low at
     both end points (331.224 vs 332.224; 280.124 vs 281.124)."""
-    assert TF_INTERCEPT_CORRECTED - TF_INTERCEPT_PRINTED == pytest.approx(1.0, abs=1e-12)
+    assert pytest.approx(1.0, abs=1e-12) == TF_INTERCEPT_CORRECTED - TF_INTERCEPT_PRINTED
     for k, _a, _b, tf_tab, _u in (TABLE_8_1[0], TABLE_8_1[-1]):
         assert table_8_1_fit(k, corrected_intercept=True)[2] == pytest.approx(tf_tab, abs=1e-3)
         assert table_8_1_fit(k)[2] == pytest.approx(tf_tab - 1.0, abs=1e-3)
@@ -206,7 +206,7 @@ def test_predictive_adaptive_estimates_k_and_resolves(factor):
     predictive solution for that K; K x 0.8 is Table 8.1 row 1 (a 0.633419, tf 332.22 s, within
     the Sec. 6.9 tolerances 1 % and 1.5 s)."""
     k = factor * K_BALL_000
-    h0, v0, gamma0 = ENTRY_000
+    h0, v0, _gamma0 = ENTRY_000
     c = AotvConstants.si(k)
     drag = k * np.exp(-h0 / c.scale_height) * v0 ** 2
     k_est, sol = solve_predictive_adaptive(ENTRY_000, drag)

@@ -6,6 +6,7 @@ by hand in the extraction, [V] the extraction author's independent prototype (ev
 gospel). Angles in the report are in degrees; the code works in rad.
 """
 
+import itertools
 import math
 
 import numpy as np
@@ -27,11 +28,11 @@ TARGETS = mae.Targets(60.0e3, D(1.0), D(20.0))
 def test_mrrv_polar_and_derived_constants():
     """[D] extraction 3.2: C_D* = 0.0640135, C_D0 = C_D*/2, K = C_D*/(2 C_L*^2) = 1.40003,
     1/(2 sqrt(C_D0 K)) = E* = 2.362, K_w = 1.3756821 m^3/kg; polar (3.10) at lambda = 1 is C_D*."""
-    assert mrrv.CD_STAR == pytest.approx(0.0640135, abs=5e-8)
+    assert pytest.approx(0.0640135, abs=5e-8) == mrrv.CD_STAR
     k_polar = mrrv.CD_STAR / (2.0 * mrrv.CL_STAR ** 2)
     assert k_polar == pytest.approx(1.40003, abs=5e-6)
     assert 1.0 / (2.0 * math.sqrt(0.5 * mrrv.CD_STAR * k_polar)) == pytest.approx(2.362, rel=1e-12)
-    assert mrrv.K_W == pytest.approx(1.3756821, abs=5e-8)
+    assert pytest.approx(1.3756821, abs=5e-8) == mrrv.K_W
     assert MODEL.k_w == pytest.approx(mrrv.K_W, rel=1e-15)
     assert mrrv.drag_coefficient(1.0) == pytest.approx(mrrv.CD_STAR, rel=1e-15)
     cl_s_m, cd_s_m = mrrv.coefficients_per_mass(0.5)
@@ -139,7 +140,7 @@ def test_toy_first_order_error_is_uniformly_order_eps_squared():
         got = mae_toy.max_first_order_error(eps, 0.3)
         assert got == pytest.approx(err, rel=2e-3)
         ratios.append(got / eps ** 2)
-    assert all(a < b < math.e for a, b in zip(ratios, ratios[1:]))
+    assert all(a < b < math.e for a, b in itertools.pairwise(ratios))
     t_i = np.linspace(0.0, 1.0, 20001)
     err0 = np.max(np.abs(mae_toy.return_exact(0.3, t_i, 0.1) - mae_toy.return_zeroth(0.3, t_i, 0.1)))
     assert err0 == pytest.approx(0.247, abs=5e-4)

@@ -32,7 +32,7 @@ def test_polar_max_lift_to_drag():
 
 def test_entry_check_values():
     """Extraction 3.5: E0 = 1.508685e8 ft^2/s^2, rho(h0) = 4.68706e-7 slug/ft^3, US76 a(h0)."""
-    assert entry_reference.E_ENTRY / FT2 == pytest.approx(1.508685e8, rel=1e-6)
+    assert pytest.approx(1.508685e8, rel=1e-6) == entry_reference.E_ENTRY / FT2
     assert entry.density(entry_reference.R_ENTRY) / sx2.SLUG_PER_FT3 == pytest.approx(4.68706e-7, rel=1e-5)
     assert entry.speed_of_sound(sx2.H0) / sx2.FT == pytest.approx(1028.2, abs=0.05)
     assert entry.speed_of_sound(84000 * sx2.FT) / sx2.FT == pytest.approx(980.3, abs=0.05)
@@ -101,8 +101,13 @@ def test_law_derivatives_match_finite_differences(reference, e_ft2):
     where alpha_ref and sigma_ref are constant (the law's frozen-control premise holds)."""
     e, h = e_ft2 * FT2, 50.0
     alpha, sigma = reference.controls(e)
-    coords = lambda en: law.coordinates([reference.state(en)], en, alpha, sigma)[0]
-    fd = lambda f: (f(e + h) - f(e - h)) / (2 * h)
+
+    def coords(en):
+        return law.coordinates([reference.state(en)], en, alpha, sigma)[0]
+
+    def fd(f):
+        return (f(e + h) - f(e - h)) / (2 * h)
+
     c = coords(e)
     u = law.reference_lift(reference.state(e), e, alpha, sigma)
     assert c.y1p == pytest.approx(fd(lambda en: reference.state(en)[1]), rel=1e-6)
@@ -142,7 +147,10 @@ def test_ideal_plant_errors_follow_the_designed_linear_ode(reference):
     design = study.Design()
     run = study.simulate((0, 0.01 * study.DEG, 0, 0, 0, 0), "ideal", design, reference, step=1e5 * FT2)
     k11, k12, k13, k14 = design.gains().k1
-    rhs = lambda e, z: [z[1], z[2], z[3], -(k14 * z[0] + k13 * z[1] + k12 * z[2] + k11 * z[3])]
+
+    def rhs(e, z):
+        return [z[1], z[2], z[3], -(k14 * z[0] + k13 * z[1] + k12 * z[2] + k11 * z[3])]
+
     e1_0 = 0.01 * study.DEG
     linear = solve_ivp(rhs, (run.energy[0], run.energy[-1]), [0, e1_0, 0, 0], rtol=1e-10, atol=1e-20,
                        dense_output=True).sol(run.energy)[1]

@@ -75,7 +75,7 @@ def test_asymptotic_equals_riccati_on_constant_coefficients():
     for xi in (0.0, 200.0, 440.0):
         assert asym.gain(xi) == pytest.approx(k(xi), rel=1e-6, abs=1e-12)
     num = lqr.NumericalLqr.solve(CONSTANT, XI_F, r, X0)
-    us, xs = asym.trajectory(X0, num.xi)
+    _us, xs = asym.trajectory(X0, num.xi)
     assert np.abs(xs - num.x).max() < 1e-8
 
 

@@ -3,9 +3,9 @@
 Each archive is wrong in one way the wiring loader must report: not a zip, no modelDescription,
 broken XML, model exchange only, a member with an absolute path or one climbing out with '..',
 no binary, a binary not named after the modelIdentifier, a member inflating 4 MiB of zeros, a
-member failing its CRC check, a binary and a modelDescription whose deflate stream is corrupt, a well-formed FMU whose Integer output cannot feed a Real input,
-and one with Integer ports (which the master does not exchange); `typed.fmu` with a parameter of each
-typed kind (its values are the wiring cases' target) and four copies with one malformed typed
+member failing its CRC check, a binary and a modelDescription whose deflate stream is corrupt, a well-formed FMU whose
+Integer output cannot feed a Real input, and one with Integer ports (which the master does not exchange); `typed.fmu`
+with a parameter of each typed kind (its values are the wiring cases' target) and four copies with one malformed typed
 variable: an Enumeration without declaredType, one naming no TypeDefinition, Integer start "abc",
 Boolean start "maybe".
 """
