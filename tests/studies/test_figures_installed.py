@@ -9,7 +9,6 @@ import os
 import shutil
 import subprocess
 import sys
-import tomllib
 
 import pytest
 from click.testing import CliRunner
@@ -19,6 +18,8 @@ from aotv_cosim.cli import main
 from tests.helpers import ROOT
 
 pytestmark = pytest.mark.integration
+
+tomllib = pytest.importorskip("tomllib", reason="reads pyproject.toml with Python 3.11's tomllib")
 
 
 def _wheel_layout(site):
