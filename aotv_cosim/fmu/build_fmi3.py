@@ -86,7 +86,7 @@ def source_kind(source: Path) -> str:
     class statement, as pythonfmu3 requires), else "pythonfmu" (read, not imported)."""
     try:
         tree = ast.parse(Path(source).read_text())
-    except (SyntaxError, ValueError, UnicodeDecodeError, OSError):  # ValueError: a NUL byte (Python 3.10)
+    except (SyntaxError, UnicodeDecodeError, OSError):
         return "pythonfmu"  # the FMI 2.0 build reports the file's problem
     for node in ast.walk(tree):
         if isinstance(node, ast.ClassDef):

@@ -21,7 +21,6 @@ Agreement measured (0.1 s step, 3000 steps; docs/ssp.md keeps the table):
 """
 
 import csv
-import importlib.util
 import json
 import math
 import os
@@ -41,10 +40,6 @@ from aotv_cosim.ssp.export import export_ssp
 from tests.helpers import SCENARIOS
 
 pytestmark = pytest.mark.integration
-
-NEEDS_LIBCOSIM = pytest.mark.skipif(importlib.util.find_spec("libcosimpy") is None,
-                                    reason="no libcosimpy (its wheels need Python 3.11+; the test extra has it there)")
-"""The mark of the libcosim tests."""
 
 SYSTEMS = ["aotv_time_linear_nominal.json", "aotv_robust_k0_8.json", "plane_change_mae_guided.json",
            "entry_ideal_combined.json", "shuttle_fl_150kft.json", "shuttle_lqr_400kft.json"]
@@ -141,7 +136,6 @@ def assert_agree(got, expected):
     assert not bad, bad
 
 
-@NEEDS_LIBCOSIM
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_libcosim_matches_jacobi_master(name, tmp_path):
     scenario = prepared(name)
@@ -207,7 +201,6 @@ def test_ecos_command_line_matches_jacobi_master(name, tmp_path):
                      "(a crash at interpreter finalization in C hosts)")
 
 
-@NEEDS_LIBCOSIM
 def test_libcosim_runs_several_systems_in_one_process(tmp_path):
     """Two systems (seed 000 and seed 003), then the first again, one after another in one libcosim
     process: each FMU imports its own bundled runtime (aotv_cosim_<hash>), so the folders of a
@@ -305,7 +298,6 @@ def clean_python(tmp_path_factory):
     return python
 
 
-@NEEDS_LIBCOSIM
 @pytest.mark.skipif(os.environ.get("AOTV_SKIP_VENV") == "1", reason="AOTV_SKIP_VENV=1")
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_libcosim_in_clean_venv_matches_jacobi_master(name, tmp_path, clean_python):

@@ -9,6 +9,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tomllib
 
 import pytest
 from click.testing import CliRunner
@@ -18,8 +19,6 @@ from aotv_cosim.cli import main
 from tests.helpers import ROOT
 
 pytestmark = pytest.mark.integration
-
-tomllib = pytest.importorskip("tomllib", reason="reads pyproject.toml with Python 3.11's tomllib")
 
 
 def _wheel_layout(site):
