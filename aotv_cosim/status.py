@@ -1,10 +1,11 @@
 """How a run or a campaign ended (`Status`): the text summary.json, rows.csv and the console show."""
 
-from enum import Enum
+from enum import StrEnum
 
 
-class Status(str, Enum):
-    """A run's status; a str, so a member is written (JSON, CSV, Parquet) and compared as its text."""
+class Status(StrEnum):
+    """A run's status; a str, so a member is written (JSON, CSV, Parquet), shown and compared as its
+    text."""
 
     COMPLETED = "completed"
     """The stop time or a stop condition was reached (a campaign: every run was made)."""
@@ -21,11 +22,6 @@ class Status(str, Enum):
     """An output left the range its FMU declares."""
     ERROR = "error"
     """A campaign run that raised before or outside the master (e.g. a draw the FMU rejects)."""
-
-    __str__ = str.__str__
-
-    def __format__(self, format_spec: str) -> str:
-        return str.__format__(self, format_spec)
 
     @property
     def ended_cleanly(self) -> bool:
